@@ -1,0 +1,120 @@
+# SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+# rtsup - one Makefile: bpf/*.bpf.c -> .bpf.o -> skeleton -> build/rtsup-trace.
+# Quiet by default; V=1 prints every command.
+
+OUT      := build
+CLANG    ?= clang
+CC       ?= cc
+BPFTOOL  ?= bpftool
+ARCH     := $(shell uname -m | sed 's/x86_64/x86/;s/aarch64/arm64/;s/ppc64le/powerpc/;s/riscv64/riscv/;s/s390x/s390/')
+VMLINUX_BTF ?= /sys/kernel/btf/vmlinux
+PREFIX   ?= /usr/local
+
+CFLAGS   ?= -O2 -g
+WARN     := -Wall -Wextra -Wno-unused-parameter
+INCLUDES := -Iinclude -I$(OUT)
+USER_LIBS := -lbpf -lelf -lz -ljansson
+CPPFLAGS += -D_GNU_SOURCE -MMD -MP
+
+ifeq ($(V),1)
+Q =
+msg =
+else
+Q = @
+msg = @printf '  %-8s %s\n' "$(1)" "$(2)";
+endif
+
+USER_SRCS := $(wildcard user/*.c)
+USER_OBJS := $(patsubst user/%.c,$(OUT)/user/%.o,$(USER_SRCS))
+UNIT_SRCS := $(wildcard tests/unit/test_*.c)
+UNIT_BINS := $(patsubst tests/unit/%.c,$(OUT)/tests/%,$(UNIT_SRCS))
+
+.PHONY: all clean test unit integration deps demo bench format-check install
+.DELETE_ON_ERROR:
+
+all: $(OUT)/rtsup-trace $(OUT)/rtsup-loadgen
+
+$(OUT) $(OUT)/user $(OUT)/tests:
+	$(Q)mkdir -p $@
+
+# vmlinux.h from the build host's BTF; bpf/vmlinux.h is a pinned fallback.
+$(OUT)/vmlinux.h: | $(OUT)
+	$(call msg,GEN,$@)
+	$(Q)if [ -r $(VMLINUX_BTF) ]; then \
+		$(BPFTOOL) btf dump file $(VMLINUX_BTF) format c > $@; \
+	else \
+		xz -dc bpf/vmlinux.h.xz > $@; \
+	fi
+
+$(OUT)/%.bpf.o: bpf/%.bpf.c $(OUT)/vmlinux.h | $(OUT)
+	$(call msg,BPF,$@)
+	$(Q)$(CLANG) -g -O2 -target bpf -D__TARGET_ARCH_$(ARCH) -MMD -MP \
+		$(INCLUDES) -Ibpf -c $< -o $@
+
+# The floor for the benchmark: the same hooks with empty programs.
+$(OUT)/rtsup_empty.bpf.o: bpf/rtsup.bpf.c $(OUT)/vmlinux.h | $(OUT)
+	$(call msg,BPF,$@)
+	$(Q)$(CLANG) -g -O2 -target bpf -D__TARGET_ARCH_$(ARCH) -DRTSUP_EMPTY -MMD -MP \
+		$(INCLUDES) -Ibpf -c $< -o $@
+
+$(OUT)/%.skel.h: $(OUT)/%.bpf.o
+	$(call msg,GEN-SKEL,$@)
+	$(Q)$(BPFTOOL) gen skeleton $< name $(subst -,_,$*)_bpf > $@
+
+# Syscall names of the build architecture, from the C library's headers.
+$(OUT)/syscall_table.h: scripts/gen-syscalls | $(OUT)
+	$(call msg,GEN,$@)
+	$(Q)CC="$(CC)" scripts/gen-syscalls > $@
+
+$(USER_OBJS): $(OUT)/rtsup.skel.h $(OUT)/syscall_table.h
+
+$(OUT)/user/%.o: user/%.c | $(OUT)/user
+	$(call msg,CC,$@)
+	$(Q)$(CC) $(CFLAGS) $(WARN) $(CPPFLAGS) $(INCLUDES) -c $< -o $@
+
+$(OUT)/rtsup-trace: $(USER_OBJS)
+	$(call msg,LINK,$@)
+	$(Q)$(CC) $(CFLAGS) $^ $(USER_LIBS) -lm -o $@
+
+$(OUT)/rtsup-loadgen: scripts/loadgen/loadgen.c | $(OUT)
+	$(call msg,CC,$@)
+	$(Q)$(CC) $(CFLAGS) $(WARN) $(CPPFLAGS) $< -lpthread -ljansson -o $@
+
+# Unit tests: plain C from include/ and user/, no kernel, no root.
+UNIT_DEPS_test_model  := user/model.c
+UNIT_DEPS_test_syscalls := user/syscalls.c
+.SECONDEXPANSION:
+$(OUT)/tests/%: tests/unit/%.c $$(UNIT_DEPS_$$*) $(OUT)/syscall_table.h | $(OUT)/tests
+	$(call msg,CC,$@)
+	$(Q)$(CC) $(CFLAGS) $(WARN) $(CPPFLAGS) $(INCLUDES) -Iuser $< $(UNIT_DEPS_$*) -lcmocka -lm -o $@
+
+unit: $(UNIT_BINS)
+	$(Q)set -e; for t in $(UNIT_BINS); do $$t; done
+
+integration: all
+	$(Q)python3 -m pytest -v tests/integration
+
+# What CI runs: every test, unit and integration.
+test: unit integration
+
+demo: all
+	$(Q)scripts/demo
+
+deps:
+	$(Q)scripts/install-deps
+
+bench: all $(OUT)/rtsup_empty.bpf.o
+	$(Q)scripts/bench
+
+format-check:
+	$(Q)clang-format --dry-run --Werror include/*.h user/*.c user/*.h bpf/*.c bpf/*.h
+
+install: all
+	install -D -m 0755 $(OUT)/rtsup-trace $(DESTDIR)$(PREFIX)/bin/rtsup-trace
+	install -D -m 0755 $(OUT)/rtsup-loadgen $(DESTDIR)$(PREFIX)/bin/rtsup-loadgen
+	install -D -m 0644 docs/rtsup-trace.8 $(DESTDIR)$(PREFIX)/share/man/man8/rtsup-trace.8
+
+clean:
+	$(Q)rm -rf $(OUT)
+
+-include $(wildcard $(OUT)/*.d $(OUT)/user/*.d $(OUT)/tests/*.d)

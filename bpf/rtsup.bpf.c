@@ -1,0 +1,494 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/*
+ * rtsup.bpf.c - kernel side of rtsup-trace: per-thread cycle statistics.
+ *
+ * Every hook starts with one lookup of the current (or switched) thread in
+ * the map "threads"; a thread that is not a target returns right there.
+ * Statistics are aggregated here; the ring buffer carries only rare events.
+ * Each program exists as tp_btf and as raw_tp: userspace keeps one set.
+ */
+#include <vmlinux.h>
+#include <bpf/bpf_helpers.h>
+#include <bpf/bpf_tracing.h>
+#include <bpf/bpf_core_read.h>
+#include "core_fixes.bpf.h"
+
+#define RTSUP_INLINE static __always_inline
+#define RTSUP_SUBPROG static __noinline
+#define RTSUP_ZERO(p, n) zero_mem(p, n)
+#include "rtsup.h"
+
+static __always_inline void zero_mem(void *p, __u32 n);
+
+#include "cycle.h"
+
+#define TIMER_ABSTIME	1
+#define SCHED_FIFO	1
+#define SCHED_RR	2
+#define SCHED_DEADLINE	6
+#define S_IFMT		00170000
+#define S_IFREG		0100000
+#define S_IFCHR		0020000
+#define EEXIST		17
+
+/* Settings, written by userspace between open and load. */
+const volatile __u32 cfg_ewma_w = 102;	/* 0.1 of RTSUP_EWMA_ONE */
+const volatile __u64 cfg_period;	/* nominal period fallback, ns */
+const volatile __u32 cfg_rt;		/* --rt: every RT thread */
+const volatile __u32 cfg_cgroup;	/* --cgroup: match map cgroup */
+const volatile __u32 cfg_ncomm;
+const volatile char cfg_comms[RTSUP_MAX_COMMS][RTSUP_COMM_LEN];
+
+/* Written by userspace while running. */
+__u32 epoch;			/* flipped every interval */
+__s64 clock_off[16];		/* clock id -> its offset to CLOCK_MONOTONIC */
+
+struct {
+	__uint(type, BPF_MAP_TYPE_HASH);
+	__uint(max_entries, RTSUP_DEFAULT_THREADS);	/* --max-threads */
+	__type(key, __u32);
+	__type(value, struct rtsup_thread);
+} threads SEC(".maps");
+
+struct {
+	__uint(type, BPF_MAP_TYPE_HASH);
+	__uint(max_entries, 1024);
+	__type(key, __u32);
+	__type(value, __u32);
+} tgids SEC(".maps");
+
+struct {
+	__uint(type, BPF_MAP_TYPE_ARRAY);
+	__uint(max_entries, RTSUP_MAX_SYSCALLS);
+	__type(key, __u32);
+	__type(value, __u32);
+} sysclass SEC(".maps");
+
+struct {
+	__uint(type, BPF_MAP_TYPE_HASH);
+	__uint(max_entries, 16384);
+	__type(key, struct rtsup_sys_key);
+	__type(value, __u64);
+} unsafe_sys SEC(".maps");
+
+/* An all-zero thread entry to copy from: too big for the BPF stack. */
+struct {
+	__uint(type, BPF_MAP_TYPE_ARRAY);
+	__uint(max_entries, 1);
+	__type(key, __u32);
+	__type(value, struct rtsup_thread);
+} zero_thread SEC(".maps");
+
+struct {
+	__uint(type, BPF_MAP_TYPE_PERCPU_ARRAY);
+	__uint(max_entries, RTSUP_C_NR);
+	__type(key, __u32);
+	__type(value, __u64);
+} counters SEC(".maps");
+
+struct {
+	__uint(type, BPF_MAP_TYPE_CGROUP_ARRAY);
+	__uint(max_entries, 1);
+	__type(key, __u32);
+	__type(value, __u32);
+} cgroup SEC(".maps");
+
+struct {
+	__uint(type, BPF_MAP_TYPE_RINGBUF);
+	__uint(max_entries, 256 * 1024);
+} events SEC(".maps");
+
+/* zero_mem - clear n bytes of a map value by copying the zero template */
+static __always_inline void zero_mem(void *p, __u32 n)
+{
+	__u32 zero = 0;
+	void *tmpl = bpf_map_lookup_elem(&zero_thread, &zero);
+
+	if (tmpl && n <= sizeof(struct rtsup_thread))
+		bpf_probe_read_kernel(p, n, tmpl);
+}
+
+/* count - bump one of our own counters */
+static __always_inline void count(__u32 which)
+{
+	__u64 *c = bpf_map_lookup_elem(&counters, &which);
+
+	if (c)
+		(*c)++;
+}
+
+/* cfg - the state machine's settings for this event */
+static __always_inline struct cycle_cfg cfg(void)
+{
+	struct cycle_cfg c = {
+		.ewma_w = cfg_ewma_w,
+		.epoch = epoch,
+		.period = cfg_period,
+	};
+	return c;
+}
+
+/* emit - send one rare event; a full ring buffer is counted, not hidden */
+static __always_inline void emit(__u32 type, struct rtsup_thread *t, __u64 now,
+				 __u64 arg, __u64 arg2)
+{
+	struct rtsup_event *e = bpf_ringbuf_reserve(&events, sizeof(*e), 0);
+
+	if (!e) {
+		count(RTSUP_C_RB_DROPS);
+		return;
+	}
+	e->ts = now;
+	e->type = type;
+	e->tid = t->tid;
+	e->tgid = t->tgid;
+	e->cpu = bpf_get_smp_processor_id();
+	e->arg = arg;
+	e->arg2 = arg2;
+	__builtin_memcpy(e->comm, t->comm, sizeof(e->comm));
+	bpf_ringbuf_submit(e, 0);
+}
+
+/* comm_match - is this name one of the --comm targets? */
+static __always_inline int comm_match(const char *comm)
+{
+	__u32 i, j;
+
+	for (i = 0; i < RTSUP_MAX_COMMS && i < cfg_ncomm; i++) {
+		for (j = 0; j < RTSUP_COMM_LEN; j++) {
+			if (comm[j] != cfg_comms[i][j])
+				break;
+			if (!comm[j])
+				return 1;
+		}
+		if (j == RTSUP_COMM_LEN)
+			return 1;
+	}
+	return 0;
+}
+
+/* add_thread - start tracking a task; NULL when the map is full */
+static __always_inline struct rtsup_thread *add_thread(struct task_struct *task,
+							__u64 now)
+{
+	__u32 tid = BPF_CORE_READ(task, pid), zero = 0;
+	struct rtsup_thread *tmpl, *t;
+	long err;
+
+	tmpl = bpf_map_lookup_elem(&zero_thread, &zero);
+	if (!tmpl)
+		return NULL;
+	err = bpf_map_update_elem(&threads, &tid, tmpl, BPF_NOEXIST);
+	if (err && err != -EEXIST) {
+		count(RTSUP_C_MAP_FULL);
+		return NULL;
+	}
+	t = bpf_map_lookup_elem(&threads, &tid);
+	if (!t || err)
+		return t;
+	cycle_thread_init(t, tid, BPF_CORE_READ(task, tgid), now);
+	bpf_probe_read_kernel_str(t->comm, sizeof(t->comm), &task->comm);
+	count(RTSUP_C_NEW);
+	emit(RTSUP_EV_NEW, t, now, 0, 0);
+	return t;
+}
+
+/* emit_faults - report the page faults of a finished cycle */
+static __always_inline void emit_cycle(__u32 ev, struct rtsup_thread *t, __u64 now,
+				       const struct rtsup_cycle *c, __u64 lateness)
+{
+	if (ev & CYC_EV_MISS)
+		emit(RTSUP_EV_MISS, t, now, lateness, c->exec);
+	if (!(ev & CYC_EV_FAULTS))
+		return;
+	if (c->minflt)
+		emit(RTSUP_EV_UNSAFE, t, now, RTSUP_U_MINFLT, c->minflt);
+	if (c->majflt)
+		emit(RTSUP_EV_UNSAFE, t, now, RTSUP_U_MAJFLT, c->majflt);
+}
+
+/* fd_is_file_or_tty - does fd of the current task name a file or a tty? */
+static __always_inline int fd_is_file_or_tty(struct task_struct *task, __u64 fd)
+{
+	struct fdtable *fdt = BPF_CORE_READ(task, files, fdt);
+	struct file **fds, *f = NULL;
+	__u32 mode, major;
+
+	if (!fdt || fd >= BPF_CORE_READ(fdt, max_fds))
+		return 0;
+	fds = BPF_CORE_READ(fdt, fd);
+	if (bpf_probe_read_kernel(&f, sizeof(f), &fds[fd]) || !f)
+		return 0;
+	mode = BPF_CORE_READ(f, f_inode, i_mode);
+	if ((mode & S_IFMT) == S_IFREG)
+		return 1;
+	if ((mode & S_IFMT) != S_IFCHR)
+		return 0;
+	/* ttys, the console and pseudo-terminals (devices.txt) */
+	major = BPF_CORE_READ(f, f_inode, i_rdev) >> 20;
+	return major == 4 || major == 5 || (major >= 136 && major <= 143);
+}
+
+/* sleep_release - requested release of a sleep syscall, 0 if unknown */
+static __always_inline __u64 sleep_release(struct pt_regs *regs, __u32 cls, __u64 now,
+					   int *absolute)
+{
+	struct __kernel_timespec ts;
+	void *req;
+	__u64 clk = 0, flags = 0, ns;
+
+	if (cls & RTSUP_SC_ABSSLEEP) {
+		clk = PT_REGS_PARM1_CORE_SYSCALL(regs);
+		flags = PT_REGS_PARM2_CORE_SYSCALL(regs);
+		req = (void *)PT_REGS_PARM3_CORE_SYSCALL(regs);
+	} else if (cls & RTSUP_SC_RELSLEEP) {
+		req = (void *)PT_REGS_PARM1_CORE_SYSCALL(regs);
+	} else {
+		return 0;
+	}
+	if (bpf_probe_read_user(&ts, sizeof(ts), req))
+		return 0;
+	ns = ts.tv_sec * 1000000000ULL + ts.tv_nsec;
+	if (!(flags & TIMER_ABSTIME))
+		return now + ns;
+	*absolute = 1;
+	return ns - clock_off[clk & 15];
+}
+
+/* on_sys_enter - cycle delimiter or a syscall inside a cycle */
+static __always_inline int on_sys_enter(struct pt_regs *regs, long id)
+{
+	__u32 tid = (__u32)bpf_get_current_pid_tgid();
+	struct rtsup_thread *t = bpf_map_lookup_elem(&threads, &tid);
+	struct task_struct *task;
+	struct rtsup_cycle c;
+	struct cycle_cfg cf;
+	__u32 nr, *cls, ev;
+	__u64 now, expected;
+	int unsafe, absolute = 0;
+
+	if (!t || t->exited)
+		return 0;
+	now = bpf_ktime_get_ns();
+	if (id < 0 || id >= RTSUP_MAX_SYSCALLS)
+		return 0;
+	nr = id;
+	cls = bpf_map_lookup_elem(&sysclass, &nr);
+	if (!cls)
+		return 0;
+	task = (struct task_struct *)bpf_get_current_task();
+	if (*cls & RTSUP_SC_DELIM) {
+		cf = cfg();
+		expected = sleep_release(regs, *cls, now, &absolute);
+		ev = cycle_delim_enter(t, &cf, now, expected, absolute,
+				       BPF_CORE_READ(task, min_flt),
+				       BPF_CORE_READ(task, maj_flt), &c);
+		if (ev & CYC_EV_CLOSED)
+			emit_cycle(ev, t, now, &c, now - expected);
+		return 0;
+	}
+	unsafe = *cls & RTSUP_SC_UNSAFE;
+	if (unsafe && (*cls & RTSUP_SC_FDCHECK))
+		unsafe = fd_is_file_or_tty(task, PT_REGS_PARM1_CORE_SYSCALL(regs));
+	ev = cycle_syscall(t, unsafe);
+	if (ev & CYC_EV_UNSAFE) {
+		struct rtsup_sys_key k = { .tid = tid, .nr = nr, .mode = t->cs.mode };
+		__u64 one = 1, *n = bpf_map_lookup_elem(&unsafe_sys, &k);
+
+		if (n)
+			__sync_fetch_and_add(n, 1);
+		else if (bpf_map_update_elem(&unsafe_sys, &k, &one, BPF_NOEXIST))
+			count(RTSUP_C_SYS_FULL);
+		emit(RTSUP_EV_UNSAFE, t, now, RTSUP_U_SYSCALL, nr);
+	}
+	return 0;
+}
+
+/* on_sys_exit - the delimiter returns: a new cycle is released */
+static __always_inline int on_sys_exit(void)
+{
+	__u32 tid = (__u32)bpf_get_current_pid_tgid();
+	struct rtsup_thread *t = bpf_map_lookup_elem(&threads, &tid);
+	struct task_struct *task;
+
+	if (!t || !t->cs.in_delim)
+		return 0;
+	task = (struct task_struct *)bpf_get_current_task();
+	cycle_delim_exit(t, bpf_ktime_get_ns(), BPF_CORE_READ(task, min_flt),
+			 BPF_CORE_READ(task, maj_flt));
+	return 0;
+}
+
+/* on_switch - one thread leaves the CPU, another gets it */
+static __always_inline int on_switch(bool preempt, struct task_struct *prev,
+				     struct task_struct *next)
+{
+	__u32 prev_tid = BPF_CORE_READ(prev, pid), next_tid = BPF_CORE_READ(next, pid);
+	struct rtsup_thread *pt = bpf_map_lookup_elem(&threads, &prev_tid);
+	struct rtsup_thread *nt = bpf_map_lookup_elem(&threads, &next_tid);
+	struct rtsup_cycle c;
+	struct cycle_cfg cf;
+	__u64 now;
+	__u32 ev;
+	int policy;
+
+	if (!nt && cfg_rt && next_tid) {
+		policy = BPF_CORE_READ(next, policy);
+		if (policy == SCHED_FIFO || policy == SCHED_RR || policy == SCHED_DEADLINE)
+			nt = add_thread(next, bpf_ktime_get_ns());
+	}
+	if (!pt && !nt)
+		return 0;
+	now = bpf_ktime_get_ns();
+	if (pt) {
+		int voluntary = !preempt && get_task_state(prev) != 0;
+
+		cf = cfg();
+		ev = cycle_switch_out(pt, &cf, now, voluntary, BPF_CORE_READ(prev, min_flt),
+				      BPF_CORE_READ(prev, maj_flt), &c);
+		if (ev & CYC_EV_BLOCK)
+			emit(RTSUP_EV_UNSAFE, pt, now, RTSUP_U_BLOCK, 0);
+		if (ev & CYC_EV_CLOSED)
+			emit_cycle(ev, pt, now, &c, 0);
+	}
+	if (nt) {
+		__u32 cpu = bpf_get_smp_processor_id();
+
+		ev = cycle_switch_in(nt, now, cpu, BPF_CORE_READ(next, min_flt),
+				     BPF_CORE_READ(next, maj_flt));
+		if (ev & CYC_EV_MIGRATE)
+			emit(RTSUP_EV_UNSAFE, nt, now, RTSUP_U_MIGRATE, cpu);
+	}
+	return 0;
+}
+
+/* on_wakeup - remember when a target became runnable */
+static __always_inline int on_wakeup(struct task_struct *p)
+{
+	__u32 tid = BPF_CORE_READ(p, pid);
+	struct rtsup_thread *t = bpf_map_lookup_elem(&threads, &tid);
+
+	if (t)
+		cycle_wakeup(t, bpf_ktime_get_ns());
+	return 0;
+}
+
+/* on_fork - threads of a target process, tasks of the target cgroup */
+static __always_inline int on_fork(struct task_struct *parent, struct task_struct *child)
+{
+	__u32 tgid = BPF_CORE_READ(child, tgid);
+
+	if (bpf_map_lookup_elem(&tgids, &tgid) ||
+	    (cfg_cgroup && bpf_current_task_under_cgroup(&cgroup, 0) == 1))
+		add_thread(child, bpf_ktime_get_ns());
+	return 0;
+}
+
+/* on_exec - a process that now carries a --comm name becomes a target */
+static __always_inline int on_exec(struct task_struct *p)
+{
+	char comm[RTSUP_COMM_LEN];
+	__u32 tgid, one = 1;
+
+	if (!cfg_ncomm)
+		return 0;
+	bpf_probe_read_kernel_str(comm, sizeof(comm), &p->comm);
+	if (!comm_match(comm))
+		return 0;
+	tgid = BPF_CORE_READ(p, tgid);
+	bpf_map_update_elem(&tgids, &tgid, &one, BPF_ANY);
+	add_thread(p, bpf_ktime_get_ns());
+	return 0;
+}
+
+/* on_rename - a thread named like a --comm target; keep names current */
+static __always_inline int on_rename(struct task_struct *task, const char *newcomm)
+{
+	__u32 tid = BPF_CORE_READ(task, pid);
+	struct rtsup_thread *t = bpf_map_lookup_elem(&threads, &tid);
+	char comm[RTSUP_COMM_LEN];
+
+	if (!t && !cfg_ncomm)
+		return 0;
+	bpf_probe_read_kernel_str(comm, sizeof(comm), newcomm);
+	if (!t && comm_match(comm))
+		t = add_thread(task, bpf_ktime_get_ns());
+	if (t)
+		__builtin_memcpy(t->comm, comm, sizeof(comm));
+	return 0;
+}
+
+/* on_exit - a target thread ends: report it, stop its cycle */
+static __always_inline int on_exit(struct task_struct *task)
+{
+	__u32 tid = BPF_CORE_READ(task, pid);
+	struct rtsup_thread *t = bpf_map_lookup_elem(&threads, &tid);
+	__u64 now;
+
+	if (!t)
+		return 0;
+	now = bpf_ktime_get_ns();
+	cycle_exit(t, now, BPF_CORE_READ(task, min_flt), BPF_CORE_READ(task, maj_flt));
+	emit(RTSUP_EV_EXIT, t, now, t->exit_mid_cycle, BPF_CORE_READ(task, exit_code));
+	return 0;
+}
+
+/* on_signal - a signal is delivered to the current thread */
+static __always_inline int on_signal(int sig)
+{
+	__u32 tid = (__u32)bpf_get_current_pid_tgid();
+	struct rtsup_thread *t = bpf_map_lookup_elem(&threads, &tid);
+
+	if (!t)
+		return 0;
+	t->signals++;
+	t->last_signal = sig;
+	emit(RTSUP_EV_SIGNAL, t, bpf_ktime_get_ns(), sig, 0);
+	return 0;
+}
+
+/*
+ * The two program sets. RTSUP_EMPTY builds the same hooks with empty bodies:
+ * the floor that the benchmark compares against.
+ */
+#ifdef RTSUP_EMPTY
+#define BODY(x) 0
+#else
+#define BODY(x) x
+#endif
+
+#define RTSUP_PROGS(kind, sfx)							\
+SEC(kind "/sys_enter")								\
+int BPF_PROG(sys_enter_##sfx, struct pt_regs *regs, long id)			\
+{ return BODY(on_sys_enter(regs, id)); }					\
+SEC(kind "/sys_exit")								\
+int BPF_PROG(sys_exit_##sfx, struct pt_regs *regs, long ret)			\
+{ return BODY(on_sys_exit()); }							\
+SEC(kind "/sched_switch")							\
+int BPF_PROG(sched_switch_##sfx, bool preempt, struct task_struct *prev,	\
+	     struct task_struct *next)						\
+{ return BODY(on_switch(preempt, prev, next)); }				\
+SEC(kind "/sched_wakeup")							\
+int BPF_PROG(sched_wakeup_##sfx, struct task_struct *p)				\
+{ return BODY(on_wakeup(p)); }							\
+SEC(kind "/sched_process_fork")							\
+int BPF_PROG(sched_process_fork_##sfx, struct task_struct *parent,		\
+	     struct task_struct *child)						\
+{ return BODY(on_fork(parent, child)); }					\
+SEC(kind "/sched_process_exec")							\
+int BPF_PROG(sched_process_exec_##sfx, struct task_struct *p)			\
+{ return BODY(on_exec(p)); }							\
+SEC(kind "/task_rename")							\
+int BPF_PROG(task_rename_##sfx, struct task_struct *task, const char *comm)	\
+{ return BODY(on_rename(task, comm)); }						\
+SEC(kind "/sched_process_exit")							\
+int BPF_PROG(sched_process_exit_##sfx, struct task_struct *task)		\
+{ return BODY(on_exit(task)); }							\
+SEC(kind "/signal_deliver")							\
+int BPF_PROG(signal_deliver_##sfx, int sig)					\
+{ return BODY(on_signal(sig)); }
+
+RTSUP_PROGS("tp_btf", btf)
+RTSUP_PROGS("raw_tp", raw)
+
+char LICENSE[] SEC("license") = "Dual BSD/GPL";

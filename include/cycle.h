@@ -1,0 +1,327 @@
+/* SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause */
+/*
+ * cycle.h - the cycle state machine, shared by BPF and userspace.
+ *
+ * A periodic RT thread works, then sleeps until its next release. The
+ * kernel side calls these functions from the scheduler and syscall hooks;
+ * the unit tests call them with synthetic event sequences. Each function
+ * takes the event's one timestamp and returns CYC_EV_* bits telling the
+ * caller which rare events to report; a finished cycle is folded into the
+ * thread's statistics here and copied to *out.
+ *
+ * Delimiter mode: a cycle runs from a release (the first switch-in after
+ * the delimiter syscall slept, or its exit if it did not sleep) to the next
+ * delimiter entry. Activation mode, for threads that never call a
+ * delimiter: from a switch-in after a voluntary block to the next one.
+ */
+#ifndef RTSUP_CYCLE_H
+#define RTSUP_CYCLE_H
+
+#include "rtsup.h"
+#include "stats.h"
+
+/* BPF has no memset for large blocks: it brings its own RTSUP_ZERO. */
+#ifndef RTSUP_ZERO
+#define RTSUP_ZERO(p, n) __builtin_memset(p, 0, n)
+#endif
+
+#define CYC_EV_CLOSED	0x01	/* a cycle finished, *out is valid */
+#define CYC_EV_MISS	0x02	/* the requested release is already past */
+#define CYC_EV_BLOCK	0x04	/* voluntary block inside a cycle */
+#define CYC_EV_MIGRATE	0x08	/* migration inside a cycle */
+#define CYC_EV_UNSAFE	0x10	/* unsafe syscall inside a cycle */
+#define CYC_EV_FAULTS	0x20	/* the finished cycle had page faults */
+#define CYC_EV_RESET	0x40	/* first delimiter: start-up stats dropped */
+
+/* Settings the state machine needs; rodata on the BPF side. */
+struct cycle_cfg {
+	__u32 ewma_w;		/* EWMA weight, per RTSUP_EWMA_ONE */
+	__u32 epoch;		/* interval bank selector */
+	__u64 period;		/* nominal period when none can be derived */
+};
+
+/* cycle_thread_init - fresh thread entry (all-zero memory assumed) */
+RTSUP_INLINE void cycle_thread_init(struct rtsup_thread *t, __u32 tid,
+				    __u32 tgid, __u64 now)
+{
+	t->tid = tid;
+	t->tgid = tgid;
+	t->first_seen = now;
+	t->cs.last_cpu = -1;
+	t->epoch = ~0U;	/* forces the interval banks to be reset */
+}
+
+/* cycle_reset_stats - drop what was measured before the first delimiter */
+RTSUP_SUBPROG void cycle_reset_stats(struct rtsup_thread *t)
+{
+	__u32 i;
+
+	RTSUP_ZERO(t->m, sizeof(t->m));
+	t->epoch = ~0U;
+	t->cycles = 0;
+	t->misses = 0;
+	t->overruns = 0;
+	t->syscalls = 0;
+	t->minflt = 0;
+	t->majflt = 0;
+	for (i = 0; i < RTSUP_U_NR; i++)
+		t->unsafe[i] = 0;
+}
+
+/* cycle_epoch - reset the interval banks once per interval */
+RTSUP_INLINE void cycle_epoch(struct rtsup_thread *t, __u32 epoch)
+{
+	__u32 i;
+
+	if (t->epoch == epoch)
+		return;
+	t->epoch = epoch;
+	for (i = 0; i < RTSUP_M_NR; i++)
+		minmax_reset(&t->m[i].win[epoch & 1]);
+}
+
+/* cycle_begin - a new cycle starts at 'start' */
+RTSUP_INLINE void cycle_begin(struct rtsup_cycle_state *cs, __u64 start,
+			      __u64 minflt, __u64 majflt)
+{
+	cs->start = start;
+	cs->run_since = start;
+	cs->cpu_acc = 0;
+	cs->minflt0 = minflt;
+	cs->majflt0 = majflt;
+	cs->preempt = 0;
+	cs->blocks = 0;
+	cs->migrations = 0;
+	cs->syscalls = 0;
+	cs->unsafe_sys = 0;
+}
+
+/* cycle_close - finish the running cycle at 'now', account it */
+RTSUP_INLINE __u32 cycle_close(struct rtsup_thread *t, const struct cycle_cfg *cfg,
+			       __u64 now, __u64 minflt, __u64 majflt,
+			       struct rtsup_cycle *out)
+{
+	struct rtsup_cycle_state *cs = &t->cs;
+	__u32 ev = CYC_EV_CLOSED;
+
+	if (cs->run_since && now > cs->run_since)
+		cs->cpu_acc += now - cs->run_since;
+	out->start = cs->start;
+	out->exec = now - cs->start;
+	out->cpu = cs->cpu_acc;
+	out->flags = 0;
+	out->period = 0;
+	out->latency = 0;
+	if (cs->last_start && cs->start > cs->last_start) {
+		out->period = cs->start - cs->last_start;
+		out->flags |= RTSUP_CF_HAS_PERIOD;
+	}
+	if (cs->last_expected) {
+		out->latency = cs->start > cs->last_expected ?
+			       cs->start - cs->last_expected : 0;
+		out->flags |= RTSUP_CF_HAS_LATENCY;
+	}
+	out->nominal = cs->nominal ? cs->nominal : cfg->period;
+	if (out->nominal && out->exec > out->nominal)
+		out->flags |= RTSUP_CF_OVERRUN;
+	out->preempt = cs->preempt;
+	out->blocks = cs->blocks;
+	out->migrations = cs->migrations;
+	out->syscalls = cs->syscalls;
+	out->unsafe_sys = cs->unsafe_sys;
+	out->minflt = (__u32)(minflt - cs->minflt0);
+	out->majflt = (__u32)(majflt - cs->majflt0);
+	if (out->minflt || out->majflt)
+		ev |= CYC_EV_FAULTS;
+	cs->last_start = cs->start;
+	cs->start = 0;
+	cs->run_since = 0;
+	return ev;
+}
+
+/* cycle_account - fold a closed cycle into the thread's statistics */
+RTSUP_SUBPROG void cycle_account(struct rtsup_thread *t, const struct cycle_cfg *cfg,
+				const struct rtsup_cycle *c)
+{
+	cycle_epoch(t, cfg->epoch);
+	thread_account_cycle(t, c, cfg->ewma_w, cfg->epoch);
+}
+
+/*
+ * cycle_delim_enter - the thread enters its delimiter syscall. 'expected'
+ * is the requested release in CLOCK_MONOTONIC ns (0 when unknown);
+ * 'absolute' when the thread asked for that time itself (TIMER_ABSTIME):
+ * only then is a past release a deadline miss and the distance between two
+ * releases the nominal period.
+ */
+RTSUP_INLINE __u32 cycle_delim_enter(struct rtsup_thread *t, const struct cycle_cfg *cfg,
+				     __u64 now, __u64 expected, int absolute,
+				     __u64 minflt, __u64 majflt, struct rtsup_cycle *out)
+{
+	struct rtsup_cycle_state *cs = &t->cs;
+	__u32 ev = 0;
+
+	if (cs->mode != RTSUP_MODE_DELIM) {
+		/* start-up is not the loop: forget it, activations too */
+		if (cs->mode == RTSUP_MODE_ACT)
+			ev |= CYC_EV_RESET;
+		cycle_reset_stats(t);
+		cs->mode = RTSUP_MODE_DELIM;
+		cs->start = 0;
+		cs->last_start = 0;
+		cs->last_expected = 0;
+	}
+	/* nominal period: distance between two requested releases */
+	if (absolute && expected && cs->abs_expected && expected > cs->abs_expected)
+		cs->nominal = expected - cs->abs_expected;
+	cs->abs_expected = absolute ? expected : 0;
+	if (cs->start) {
+		ev |= cycle_close(t, cfg, now, minflt, majflt, out);
+		if (absolute && expected && expected <= now) {
+			out->flags |= RTSUP_CF_MISS;
+			ev |= CYC_EV_MISS;
+		}
+		cycle_account(t, cfg, out);
+	}
+	cs->in_delim = 1;
+	cs->in_ts = 0;
+	cs->wake_ts = 0;
+	cs->expected = expected;
+	return ev;
+}
+
+/* cycle_delim_exit - the delimiter returns: the next cycle is released */
+RTSUP_INLINE void cycle_delim_exit(struct rtsup_thread *t, __u64 now,
+				   __u64 minflt, __u64 majflt)
+{
+	struct rtsup_cycle_state *cs = &t->cs;
+	__u64 start = cs->in_ts ? cs->in_ts : now;
+
+	if (!cs->in_delim)
+		return;
+	cs->in_delim = 0;
+	/* no requested release (epoll, read): latency counts from wakeup */
+	if (cs->expected)
+		cs->last_expected = cs->expected;
+	else if (cs->wake_ts && cs->wake_ts <= start)
+		cs->last_expected = cs->wake_ts;
+	else
+		cs->last_expected = 0;
+	cycle_begin(cs, start, minflt, majflt);
+}
+
+/* cycle_wakeup - sched_wakeup of the thread */
+RTSUP_INLINE void cycle_wakeup(struct rtsup_thread *t, __u64 now)
+{
+	t->cs.wake_ts = now;
+}
+
+/* cycle_switch_in - the thread gets a CPU */
+RTSUP_INLINE __u32 cycle_switch_in(struct rtsup_thread *t, __u64 now, __s32 cpu,
+				   __u64 minflt, __u64 majflt)
+{
+	struct rtsup_cycle_state *cs = &t->cs;
+	__u32 ev = 0;
+
+	if (cs->last_cpu >= 0 && cpu != cs->last_cpu) {
+		t->migrations++;
+		if (cs->start && !cs->in_delim) {
+			cs->migrations++;
+			t->unsafe[RTSUP_U_MIGRATE]++;
+			ev |= CYC_EV_MIGRATE;
+		}
+	}
+	cs->last_cpu = cpu;
+	cs->run_since = now;
+	if (cs->in_delim) {
+		if (!cs->in_ts)
+			cs->in_ts = now;
+		return ev;
+	}
+	if (cs->mode != RTSUP_MODE_DELIM && !cs->start) {
+		/* activation: the wakeup is the expected release */
+		cs->mode = RTSUP_MODE_ACT;
+		cs->last_expected = cs->wake_ts && cs->wake_ts <= now ? cs->wake_ts : 0;
+		cycle_begin(cs, now, minflt, majflt);
+	}
+	return ev;
+}
+
+/*
+ * cycle_switch_out - the thread leaves its CPU; 'voluntary' is a block
+ * (it is no longer runnable), otherwise a preemption.
+ */
+RTSUP_INLINE __u32 cycle_switch_out(struct rtsup_thread *t, const struct cycle_cfg *cfg,
+				    __u64 now, int voluntary, __u64 minflt,
+				    __u64 majflt, struct rtsup_cycle *out)
+{
+	struct rtsup_cycle_state *cs = &t->cs;
+	__u32 ev = 0;
+
+	if (voluntary)
+		t->vol_cs++;
+	else
+		t->invol_cs++;
+	if (cs->in_delim) {
+		if (voluntary)
+			cs->in_ts = 0;	/* it sleeps: the release comes later */
+		cs->run_since = 0;
+		return 0;
+	}
+	if (!cs->start) {
+		cs->run_since = 0;
+		return 0;
+	}
+	if (!voluntary) {
+		cs->preempt++;
+	} else if (cs->mode == RTSUP_MODE_DELIM) {
+		cs->blocks++;
+		t->unsafe[RTSUP_U_BLOCK]++;
+		ev |= CYC_EV_BLOCK;
+	} else {
+		ev |= cycle_close(t, cfg, now, minflt, majflt, out);
+		cycle_account(t, cfg, out);
+		return ev;
+	}
+	if (cs->run_since && now > cs->run_since)
+		cs->cpu_acc += now - cs->run_since;
+	cs->run_since = 0;
+	return ev;
+}
+
+/* cycle_syscall - a syscall other than the delimiter; 'unsafe' per class */
+RTSUP_INLINE __u32 cycle_syscall(struct rtsup_thread *t, int unsafe)
+{
+	struct rtsup_cycle_state *cs = &t->cs;
+
+	if (!cs->start || cs->in_delim)
+		return 0;
+	cs->syscalls++;
+	t->syscalls++;
+	if (!unsafe)
+		return 0;
+	cs->unsafe_sys++;
+	t->unsafe[RTSUP_U_SYSCALL]++;
+	return CYC_EV_UNSAFE;
+}
+
+/* cycle_exit - the thread exits; a running cycle is not accounted */
+RTSUP_INLINE void cycle_exit(struct rtsup_thread *t, __u64 now, __u64 minflt,
+			     __u64 majflt)
+{
+	struct rtsup_cycle_state *cs = &t->cs;
+
+	t->exited = now;
+	if (cs->start && !cs->in_delim && cs->mode == RTSUP_MODE_DELIM) {
+		/* faults already happened: count them even without a cycle */
+		t->exit_mid_cycle = 1;
+		t->minflt += minflt - cs->minflt0;
+		t->majflt += majflt - cs->majflt0;
+		t->unsafe[RTSUP_U_MINFLT] += minflt - cs->minflt0;
+		t->unsafe[RTSUP_U_MAJFLT] += majflt - cs->majflt0;
+	}
+	cs->start = 0;
+	cs->in_delim = 0;
+}
+
+#endif /* RTSUP_CYCLE_H */

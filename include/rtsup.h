@@ -1,0 +1,196 @@
+/* SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause */
+/*
+ * rtsup.h - types shared by the BPF programs and userspace.
+ *
+ * Fixed-width fields and fixed arrays only: the same bytes are read by the
+ * kernel side (vmlinux.h types) and by userspace (linux/types.h).
+ */
+#ifndef RTSUP_H
+#define RTSUP_H
+
+#ifndef __VMLINUX_H__
+#include <linux/types.h>
+#endif
+
+#define RTSUP_COMM_LEN		16
+#define RTSUP_MAX_COMMS		8	/* --comm names matched in the kernel */
+#define RTSUP_MAX_SYSCALLS	1024	/* size of the syscall class table */
+#define RTSUP_DEFAULT_THREADS	4096	/* default capacity of the thread map */
+
+/* Metrics measured once per cycle. */
+enum rtsup_metric {
+	RTSUP_M_PERIOD,		/* release to release */
+	RTSUP_M_EXEC,		/* release to next delimiter entry (wall) */
+	RTSUP_M_CPU,		/* CPU time inside the cycle */
+	RTSUP_M_LATENCY,	/* switch-in minus expected release */
+	RTSUP_M_NR,
+};
+
+/* Why a cycle lost real-time safety (a Xenomai "mode switch" analogue). */
+enum rtsup_unsafe {
+	RTSUP_U_SYSCALL,	/* a syscall of an unsafe class */
+	RTSUP_U_MINFLT,		/* minor page fault */
+	RTSUP_U_MAJFLT,		/* major page fault */
+	RTSUP_U_BLOCK,		/* voluntary block that is not the delimiter */
+	RTSUP_U_MIGRATE,	/* moved to another CPU */
+	RTSUP_U_NR,
+};
+
+/* Bits of the per-syscall class table (map sysclass). */
+#define RTSUP_SC_UNSAFE		0x01	/* unsafe inside a cycle */
+#define RTSUP_SC_DELIM		0x02	/* cycle delimiter */
+#define RTSUP_SC_FDCHECK	0x04	/* unsafe only on a regular file or tty */
+#define RTSUP_SC_ABSSLEEP	0x08	/* clock_nanosleep: (clk, flags, req, rem) */
+#define RTSUP_SC_RELSLEEP	0x10	/* nanosleep: (req, rem) */
+
+/* Cycle modes: how a thread's cycles are delimited. */
+enum rtsup_mode {
+	RTSUP_MODE_NONE,	/* nothing seen yet */
+	RTSUP_MODE_ACT,		/* activations: wakeup to next block */
+	RTSUP_MODE_DELIM,	/* delimiter syscall */
+};
+
+/*
+ * Log-linear histogram: values below 2^HIST_SUB_BITS get a bucket each,
+ * every power of two above is split in 2^HIST_SUB_BITS linear buckets, so
+ * a bucket is at most 1/8 wide relative to its value. Values above
+ * 2^HIST_MAX_EXP ns (about 69 s) land in the last bucket.
+ */
+#define HIST_SUB_BITS	3
+#define HIST_SUB	(1 << HIST_SUB_BITS)
+#define HIST_MAX_EXP	36
+#define HIST_BUCKETS	((HIST_MAX_EXP - HIST_SUB_BITS + 2) * HIST_SUB)
+
+struct rtsup_minmax {
+	__u64 min;
+	__u64 max;
+};
+
+/* Lifetime statistics of one metric; min/max also per interval bank. */
+struct rtsup_metric_stats {
+	__u64 count;
+	__u64 sum;
+	__u64 min;
+	__u64 max;
+	__s64 ewma;		/* fixed point, RTSUP_EWMA_SHIFT fraction bits */
+	struct rtsup_minmax win[2];	/* per-interval min/max, by epoch bit */
+	__u32 hist[HIST_BUCKETS];
+};
+
+#define RTSUP_EWMA_SHIFT	8
+#define RTSUP_EWMA_ONE		1024	/* weight unit: weight = w / 1024 */
+
+/* Flags of one finished cycle. */
+#define RTSUP_CF_MISS		0x01	/* requested release already past */
+#define RTSUP_CF_OVERRUN	0x02	/* exec > nominal period */
+#define RTSUP_CF_HAS_PERIOD	0x04	/* a previous release exists */
+#define RTSUP_CF_HAS_LATENCY	0x08	/* expected release known */
+
+/* One finished cycle, as produced by the cycle state machine. */
+struct rtsup_cycle {
+	__u64 start;		/* release (switch-in) time */
+	__u64 period;
+	__u64 exec;
+	__u64 cpu;
+	__u64 latency;
+	__u64 nominal;		/* nominal period, 0 if unknown */
+	__u32 preempt;		/* involuntary switches inside the cycle */
+	__u32 blocks;		/* voluntary blocks inside the cycle */
+	__u32 migrations;
+	__u32 syscalls;
+	__u32 unsafe_sys;
+	__u32 minflt;
+	__u32 majflt;
+	__u32 flags;
+};
+
+/* Cycle state machine: everything needed between two events. */
+struct rtsup_cycle_state {
+	__u64 start;		/* release of the running cycle, 0 = none */
+	__u64 last_start;	/* release of the previous cycle */
+	__u64 run_since;	/* switch-in time while on CPU, 0 = off CPU */
+	__u64 cpu_acc;		/* CPU time of the cycle so far */
+	__u64 expected;		/* expected release of the pending sleep */
+	__u64 abs_expected;	/* same, when requested as an absolute time */
+	__u64 last_expected;	/* expected release of the running cycle */
+	__u64 nominal;		/* last nominal period (expected deltas) */
+	__u64 wake_ts;		/* last wakeup while sleeping */
+	__u64 in_ts;		/* last switch-in while in the delimiter */
+	__u64 minflt0;		/* fault counters at cycle start */
+	__u64 majflt0;
+	__u32 mode;		/* enum rtsup_mode */
+	__u32 in_delim;		/* inside a delimiter syscall */
+	__u32 cur_sys;		/* syscall in progress + 1, 0 = none */
+	__s32 last_cpu;
+	__u32 preempt;
+	__u32 blocks;
+	__u32 migrations;
+	__u32 syscalls;
+	__u32 unsafe_sys;
+	__u32 pad;
+};
+
+/* Per-thread value of the map "threads", keyed by tid. */
+struct rtsup_thread {
+	struct rtsup_cycle_state cs;
+	__u32 tid;
+	__u32 tgid;
+	char comm[RTSUP_COMM_LEN];
+	__u64 first_seen;
+	__u64 last_cycle;	/* start of the last finished cycle */
+	__u64 cycles;
+	__u64 misses;
+	__u64 overruns;
+	__u64 vol_cs;
+	__u64 invol_cs;
+	__u64 migrations;
+	__u64 syscalls;
+	__u64 signals;
+	__u64 minflt;		/* inside cycles */
+	__u64 majflt;
+	__u64 unsafe[RTSUP_U_NR];
+	__u64 exited;		/* exit time, 0 while alive */
+	__u32 exit_mid_cycle;
+	__u32 last_signal;
+	__u32 epoch;		/* interval whose bank the stats write to */
+	__u32 pad;
+	struct rtsup_metric_stats m[RTSUP_M_NR];
+};
+
+/* Key of the map "unsafe_sys": unsafe syscalls counted per thread. */
+struct rtsup_sys_key {
+	__u32 tid;
+	__u16 nr;
+	__u16 mode;	/* enum rtsup_mode when counted: start-up is apart */
+};
+
+/* Rare events sent through the ring buffer. */
+enum rtsup_event_type {
+	RTSUP_EV_MISS = 1,	/* deadline miss: arg = lateness ns */
+	RTSUP_EV_UNSAFE,	/* arg = reason, arg2 = syscall nr or count */
+	RTSUP_EV_EXIT,		/* thread exit: arg = 1 if mid-cycle */
+	RTSUP_EV_NEW,		/* a new target thread */
+	RTSUP_EV_SIGNAL,	/* arg = signal number */
+};
+
+struct rtsup_event {
+	__u64 ts;
+	__u32 type;
+	__u32 tid;
+	__u32 tgid;
+	__u32 cpu;
+	__u64 arg;
+	__u64 arg2;
+	char comm[RTSUP_COMM_LEN];
+};
+
+/* Counters kept by the BPF side about itself (array "counters"). */
+enum rtsup_counter {
+	RTSUP_C_RB_DROPS,	/* ring buffer full */
+	RTSUP_C_MAP_FULL,	/* threads we could not track */
+	RTSUP_C_SYS_FULL,	/* unsafe_sys entries we could not add */
+	RTSUP_C_NEW,		/* threads added by the kernel side */
+	RTSUP_C_NR,
+};
+
+#endif /* RTSUP_H */

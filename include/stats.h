@@ -1,0 +1,94 @@
+/* SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause */
+/*
+ * stats.h - per-metric statistics updates, shared by BPF and userspace.
+ *
+ * The kernel updates these once per finished cycle; the host unit tests
+ * run the very same code.
+ */
+#ifndef RTSUP_STATS_H
+#define RTSUP_STATS_H
+
+#include "rtsup.h"
+#include "hist.h"
+
+/*
+ * ewma_update - exponentially weighted mean, weight w / RTSUP_EWMA_ONE for
+ * the new value (the seed's "weighted mean": recent values count more).
+ * Kept in fixed point so the kernel needs no floats.
+ */
+RTSUP_INLINE __s64 ewma_update(__s64 ewma, __u64 count, __u64 v, __u32 w)
+{
+	__s64 x = (__s64)(v << RTSUP_EWMA_SHIFT);
+
+	if (count == 0)
+		return x;
+	/* arithmetic shift of a signed product; w <= 1024 keeps it in range */
+	return ewma + (((x - ewma) * (__s64)w) >> 10);
+}
+
+/* minmax_reset - empty an interval bank */
+RTSUP_INLINE void minmax_reset(struct rtsup_minmax *mm)
+{
+	mm->min = ~0ULL;
+	mm->max = 0;
+}
+
+/* metric_init - empty statistics */
+RTSUP_INLINE void metric_init(struct rtsup_metric_stats *s)
+{
+	s->count = 0;
+	s->sum = 0;
+	s->min = ~0ULL;
+	s->max = 0;
+	s->ewma = 0;
+	minmax_reset(&s->win[0]);
+	minmax_reset(&s->win[1]);
+}
+
+/* metric_add - account one value; epoch selects the interval bank */
+RTSUP_SUBPROG void metric_add(struct rtsup_metric_stats *s, __u64 v, __u32 w,
+			     __u32 epoch)
+{
+	struct rtsup_minmax *mm = &s->win[epoch & 1];
+	__u32 b = hist_bucket(v);
+
+	/* entries start all-zero: the first value sets min */
+	if (!s->count || v < s->min)
+		s->min = v;
+	s->ewma = ewma_update(s->ewma, s->count, v, w);
+	s->count++;
+	s->sum += v;
+	if (v > s->max)
+		s->max = v;
+	if (v < mm->min)
+		mm->min = v;
+	if (v > mm->max)
+		mm->max = v;
+	if (b < HIST_BUCKETS)	/* always true; bounds the verifier */
+		s->hist[b]++;
+}
+
+/* thread_account_cycle - fold one finished cycle into a thread's stats */
+RTSUP_INLINE void thread_account_cycle(struct rtsup_thread *t,
+				       const struct rtsup_cycle *c, __u32 w,
+				       __u32 epoch)
+{
+	t->cycles++;
+	t->last_cycle = c->start;
+	if (c->flags & RTSUP_CF_MISS)
+		t->misses++;
+	if (c->flags & RTSUP_CF_OVERRUN)
+		t->overruns++;
+	if (c->flags & RTSUP_CF_HAS_PERIOD)
+		metric_add(&t->m[RTSUP_M_PERIOD], c->period, w, epoch);
+	metric_add(&t->m[RTSUP_M_EXEC], c->exec, w, epoch);
+	metric_add(&t->m[RTSUP_M_CPU], c->cpu, w, epoch);
+	if (c->flags & RTSUP_CF_HAS_LATENCY)
+		metric_add(&t->m[RTSUP_M_LATENCY], c->latency, w, epoch);
+	t->minflt += c->minflt;
+	t->majflt += c->majflt;
+	t->unsafe[RTSUP_U_MINFLT] += c->minflt;
+	t->unsafe[RTSUP_U_MAJFLT] += c->majflt;
+}
+
+#endif /* RTSUP_STATS_H */

@@ -1,0 +1,135 @@
+# SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+"""Integration test helpers: real BPF programs on this machine's kernel.
+
+Every test runs rtsup-trace against rtsup-loadgen and compares what the
+tracer reports with the JSON summary of what the generator did.
+With CI=true a test that cannot load BPF fails; elsewhere it is skipped.
+"""
+import json
+import os
+import signal
+import subprocess
+import time
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+TRACE = ROOT / "build" / "rtsup-trace"
+LOADGEN = ROOT / "build" / "rtsup-loadgen"
+IN_CI = os.environ.get("CI", "").lower() in ("1", "true", "yes")
+
+
+def _bpf_unavailable_reason():
+    """Why rtsup-trace cannot attach here, or None if it can."""
+    if not TRACE.exists() or not LOADGEN.exists():
+        return "build/rtsup-trace is not built (run make)"
+    if os.geteuid() != 0:
+        return "loading BPF needs root"
+    r = subprocess.run([str(TRACE), "--tid", str(os.getpid()), "-d", "0.2s", "-j"],
+                       capture_output=True, text=True, timeout=60)
+    if r.returncode != 0:
+        return "rtsup-trace cannot load BPF: " + r.stderr.strip()
+    return None
+
+
+@pytest.fixture(scope="session")
+def bpf():
+    """Fail (CI) or skip (elsewhere) when BPF cannot be loaded."""
+    why = _bpf_unavailable_reason()
+    if why:
+        if IN_CI:
+            pytest.fail("CI=true and " + why)
+        pytest.skip(why)
+
+
+class Trace:
+    """A running rtsup-trace with JSON output."""
+
+    def __init__(self, args):
+        self.proc = subprocess.Popen([str(TRACE), "-j"] + args, stdout=subprocess.PIPE,
+                                     stderr=subprocess.PIPE, text=True)
+        # the banner on stderr says the programs are attached
+        line = self.proc.stderr.readline()
+        if "tracing with" not in line:
+            out, err = self.proc.communicate(timeout=30)
+            raise AssertionError("rtsup-trace did not start: " + line + err)
+        self.banner = line
+
+    def stop(self, sig=signal.SIGINT, timeout=30):
+        """End the run; return (interval objects, summary object, stderr)."""
+        if self.proc.poll() is None:
+            self.proc.send_signal(sig)
+        out, err = self.proc.communicate(timeout=timeout)
+        objs = [json.loads(x) for x in out.splitlines() if x.strip()]
+        intervals = [o for o in objs if o.get("type") == "interval"]
+        summary = [o for o in objs if o.get("type") == "summary"]
+        assert self.proc.returncode == 0, err
+        assert len(summary) == 1, out
+        return intervals, summary[0], err
+
+
+class Loadgen:
+    """rtsup-loadgen with --hold: it parks its threads after the last cycle,
+    writes its summary and waits for SIGTERM, so the tracer sees only
+    whole cycles."""
+
+    def __init__(self, tmp_path, args, hold=True):
+        self.summary_path = tmp_path / "loadgen.json"
+        cmd = [str(LOADGEN), "-s", str(self.summary_path)] + args
+        if hold:
+            cmd.append("--hold")
+        self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                     text=True)
+        self.pid = self.proc.pid
+
+    def summary(self, timeout=60):
+        """Wait for the generator's summary (written once every thread is done)."""
+        end = time.time() + timeout
+        while time.time() < end:
+            if self.summary_path.exists():
+                try:
+                    return json.loads(self.summary_path.read_text())
+                except json.JSONDecodeError:
+                    pass  # being written
+            if self.proc.poll() is not None and not self.summary_path.exists():
+                raise AssertionError("rtsup-loadgen failed: " + self.proc.stderr.read())
+            time.sleep(0.05)
+        raise AssertionError("rtsup-loadgen wrote no summary in time")
+
+    def stop(self):
+        if self.proc.poll() is None:
+            self.proc.terminate()
+        self.proc.communicate(timeout=30)
+
+
+def threads_by_tid(summary):
+    return {t["tid"]: t for t in summary["threads"]}
+
+
+def unique_prefix():
+    """A thread name prefix no other test or process uses."""
+    unique_prefix.n += 1
+    return "t%d%02d" % (os.getpid() % 10000, unique_prefix.n % 100)
+
+
+unique_prefix.n = 0
+
+
+def run_supervised(tmp_path, lg_args, trace_args=None, nthreads=2):
+    """Trace the generator's periodic threads by name, started before the
+    generator (so --comm must pick them up), wait for its summary, stop
+    the tracer; return (truth, intervals, summary)."""
+    prefix = unique_prefix()
+    names = ["--comm=%s-%d" % (prefix, i) for i in range(nthreads)]
+    tr = Trace((trace_args or []) + names)
+    lg = Loadgen(tmp_path, ["--name", prefix, "-n", str(nthreads)] + lg_args)
+    try:
+        truth = lg.summary()
+        time.sleep(0.2)  # let the last interval's events drain
+        intervals, summary, _ = tr.stop()
+    finally:
+        lg.stop()
+        if tr.proc.poll() is None:
+            tr.proc.kill()
+    return truth, intervals, summary

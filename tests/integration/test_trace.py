@@ -1,0 +1,233 @@
+# SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+"""rtsup-trace against rtsup-loadgen: the numbers it reports are the truth."""
+import os
+import subprocess
+import time
+
+import pytest
+
+from conftest import LOADGEN, TRACE, Loadgen, Trace, run_supervised, threads_by_tid
+
+pytestmark = pytest.mark.usefixtures("bpf")
+
+PERIOD_US = 1000
+CYCLES = 2000
+
+
+def check_thread_matches(truth_t, got):
+    """Every injected fault of one thread is reported with the exact count."""
+    tot = got["total"]
+    assert got["mode"] == "delimiter"
+    # cycles within 1 %, period within 2 %
+    assert abs(tot["cycles"] - truth_t["cycles"]) <= truth_t["cycles"] * 0.01
+    assert tot["period_ns"]["mean"] == pytest.approx(PERIOD_US * 1000, rel=0.02)
+    assert tot["overruns"] == truth_t["overruns"]
+    assert tot["deadline_misses"] == truth_t["deadline_misses"]
+    assert tot["page_faults"]["minor"] == truth_t["page_faults"]
+    assert tot["unsafe"]["minor_fault"] == truth_t["page_faults"]
+    assert tot["unsafe"]["block"] == truth_t["blocks"]
+    unsafe_truth = {k: v for k, v in truth_t["syscalls"].items() if k != "futex"}
+    assert tot["unsafe_syscalls"] == unsafe_truth
+    assert tot["unsafe"]["syscall"] == sum(unsafe_truth.values())
+
+
+def test_clean_load_period_and_cycles(tmp_path):
+    truth, intervals, summary = run_supervised(
+        tmp_path, ["-P", str(PERIOD_US), "-w", "100", "-c", str(CYCLES)])
+    got = threads_by_tid(summary)
+    assert len(intervals) >= 1
+    for t in truth["threads"]:
+        g = got[t["tid"]]
+        assert g["comm"] == t["comm"]
+        assert g["policy"] == "SCHED_FIFO" and g["prio"] == 80
+        check_thread_matches(t, g)
+        tot = g["total"]
+        # no fault was injected: nothing unsafe, exec about the work time
+        assert tot["unsafe"]["total"] == 0
+        assert tot["exec_ns"]["p50"] == pytest.approx(100_000, rel=0.15)
+        assert tot["cpu_ns"]["mean"] <= tot["exec_ns"]["mean"] * 1.01
+        lat = tot["latency_ns"]
+        assert lat["count"] >= CYCLES - 2 and lat["min"] <= lat["p50"] <= lat["p99"] <= lat["max"]
+
+
+def test_injected_faults_reported_exactly(tmp_path):
+    faults = ["-f", "overrun@100", "-f", "overrun/700,thread=1",
+              "-f", "mmap/500,thread=1", "-f", "openat@300,thread=0",
+              "-f", "write@400,thread=0", "-f", "write@450,thread=0",
+              "-f", "pagefault:3@50", "-f", "pagefault:2@1200,thread=1",
+              "-f", "block@70", "-f", "block@900,thread=0"]
+    truth, _, summary = run_supervised(
+        tmp_path, ["-P", str(PERIOD_US), "-w", "100", "-c", str(CYCLES), "-C", "0,1"] + faults)
+    got = threads_by_tid(summary)
+    t0, t1 = truth["threads"]
+    # the truth is what we asked for
+    assert t0["overruns"] == 1 and t1["overruns"] == 3
+    assert t0["syscalls"].get("openat") == 1 and t0["syscalls"].get("write") == 2
+    assert t1["syscalls"].get("mmap") == 4 and t1["page_faults"] == 5
+    assert t0["blocks"] == 2
+    for t in truth["threads"]:
+        check_thread_matches(t, got[t["tid"]])
+
+
+def test_exit_is_reported_and_tracing_goes_on(tmp_path):
+    truth, intervals, summary = run_supervised(
+        tmp_path, ["-c", str(CYCLES), "-f", "exit@500,thread=1"])
+    t0, t1 = truth["threads"]
+    assert t1["exited"] and not t0["exited"]
+    events = [e for i in intervals for e in i["events"]]
+    exits = [e for e in events if e["event"] == "exit"]
+    assert [e["tid"] for e in exits] == [t1["tid"]]
+    assert exits[0]["mid_cycle"] is True
+    got = threads_by_tid(summary)
+    assert got[t1["tid"]]["alive"] is False
+    assert got[t1["tid"]]["total"]["cycles"] == pytest.approx(500, abs=1)
+    # the other thread is still supervised to the end
+    assert got[t0["tid"]]["alive"] is True
+    assert got[t0["tid"]]["total"]["cycles"] == pytest.approx(t0["cycles"], rel=0.01)
+    # the exited thread is not reported in intervals after its exit
+    last = intervals[-1]
+    assert t1["tid"] not in [t["tid"] for t in last["threads"]]
+
+
+def test_non_target_is_not_reported(tmp_path):
+    (tmp_path / "o").mkdir()
+    other = Loadgen(tmp_path / "o", ["--name", "notme", "-c", "3000"], hold=False)
+    try:
+        truth, intervals, summary = run_supervised(tmp_path, ["-c", "1000"])
+        other_truth = other.summary()
+    finally:
+        other.stop()
+    reported = {t["tid"] for i in intervals + [summary] for t in i["threads"]}
+    assert reported == {t["tid"] for t in truth["threads"]}
+    assert not reported & {t["tid"] for t in other_truth["threads"]}
+
+
+def test_comm_picks_up_process_started_later(tmp_path):
+    # by process name: the generator's main thread and all its threads
+    tr = Trace(["--comm", "rtsup-loadgen"])
+    lg = Loadgen(tmp_path, ["--name", "later", "-c", "500"])
+    try:
+        truth = lg.summary()
+        time.sleep(0.2)
+        _, summary, _ = tr.stop()
+    finally:
+        lg.stop()
+    got = threads_by_tid(summary)
+    assert truth["pid"] in got
+    for t in truth["threads"]:
+        assert got[t["tid"]]["total"]["cycles"] == pytest.approx(t["cycles"], rel=0.01)
+
+
+def test_pid_target_includes_threads_created_later(tmp_path):
+    lg = Loadgen(tmp_path, ["--start-delay", "1500", "-c", "1000"])
+    try:
+        tr = Trace(["--pid", str(lg.pid)])
+        truth = lg.summary()
+        time.sleep(0.2)
+        _, summary, _ = tr.stop()
+    finally:
+        lg.stop()
+    got = threads_by_tid(summary)
+    for t in truth["threads"]:
+        assert got[t["tid"]]["total"]["cycles"] == pytest.approx(t["cycles"], rel=0.01)
+
+
+def test_raw_tracepoint_fallback(tmp_path):
+    truth, _, summary = run_supervised(
+        tmp_path, ["-c", "1000", "-f", "mmap@100", "-f", "overrun@200"], ["--raw-tp"])
+    got = threads_by_tid(summary)
+    for t in truth["threads"]:
+        check_thread_matches(t, got[t["tid"]])
+
+
+def test_relative_sleep_with_nominal_period(tmp_path):
+    truth, _, summary = run_supervised(
+        tmp_path, ["--relative", "-c", "1000", "-f", "overrun@300"], ["--period", "1ms"])
+    got = threads_by_tid(summary)
+    for t in truth["threads"]:
+        tot = got[t["tid"]]["total"]
+        assert tot["cycles"] == pytest.approx(t["cycles"], rel=0.01)
+        assert tot["period_ns"]["mean"] == pytest.approx(1e6, rel=0.02)
+        assert tot["overruns"] == t["overruns"] == 1
+        # a relative sleep has no deadline to miss
+        assert tot["deadline_misses"] == 0
+
+
+def test_stall_starves_the_thread(tmp_path):
+    truth, _, summary = run_supervised(
+        tmp_path, ["-c", "1500", "-C", "0,1", "-f", "stall:8@500,thread=0"])
+    got = threads_by_tid(summary)
+    t0 = truth["threads"][0]
+    tot = got[t0["tid"]]["total"]
+    assert t0["stalls"] == 1 and t0["deadline_misses"] >= 1
+    assert tot["deadline_misses"] == t0["deadline_misses"]
+    assert tot["latency_ns"]["max"] >= 7_000_000
+    assert tot["context_switches"]["involuntary"] >= 1
+
+
+def test_json_interval_schema(tmp_path):
+    _, intervals, summary = run_supervised(tmp_path, ["-c", "1500"], ["-i", "500ms"])
+    assert len(intervals) >= 2
+    for obj in intervals:
+        for key in ("time", "elapsed_s", "interval_s", "threads", "events",
+                    "lost_events", "untracked_threads"):
+            assert key in obj
+        assert obj["lost_events"] == 0
+        for t in obj["threads"]:
+            for key in ("tid", "tgid", "comm", "policy", "prio", "cpus", "alive",
+                        "interval", "total"):
+                assert key in t
+            for m in ("period_ns", "exec_ns", "cpu_ns", "latency_ns"):
+                assert "count" in t["interval"][m]
+    # the intervals add up to the total
+    for tid, t in threads_by_tid(summary).items():
+        per = sum(x["interval"]["cycles"] for i in intervals for x in i["threads"]
+                  if x["tid"] == tid)
+        assert per <= t["total"]["cycles"]
+        assert per >= t["total"]["cycles"] - 5
+
+
+def run_cli(args, **kw):
+    return subprocess.run([str(TRACE)] + args, capture_output=True, text=True,
+                          timeout=60, **kw)
+
+
+@pytest.mark.parametrize("args,msg", [
+    ([], "no target"),
+    (["--pid", "0"], "--pid '0': not a process id"),
+    (["--pid", "99999999999"], "not a process id"),
+    (["--pid", "4194000"], "no such process"),
+    (["--tid", "4194000"], "no such thread"),
+    (["-p", "1", "-i", "0"], "--interval"),
+    (["-p", "1", "-d", "soon"], "--duration"),
+    (["-p", "1", "--cycle-syscall", "frobnicate"], "no such syscall"),
+    (["-p", "1", "--ewma-weight", "2"], "--ewma-weight"),
+    (["-c", "a-name-longer-than-15"], "1 to 15 characters"),
+    (["-p", "1", "--cgroup", "/nonexistent"], "--cgroup '/nonexistent'"),
+])
+def test_bad_input_one_line_error(args, msg):
+    r = run_cli(args)
+    assert r.returncode == 1
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("rtsup-trace: ")
+    assert msg in lines[0]
+    assert r.stdout == ""
+
+
+def test_not_root_says_what_to_do():
+    r = run_cli(["-p", "1"], user=65534, group=65534, extra_groups=[])
+    assert r.returncode == 1
+    assert r.stderr.strip().splitlines() == [
+        "rtsup-trace: not allowed to load BPF programs: "
+        "run as root or grant CAP_BPF and CAP_PERFMON"]
+
+
+def test_pid_that_exits_keeps_running(tmp_path):
+    lg = Loadgen(tmp_path, ["-c", "300"], hold=False)
+    tr = Trace(["--pid", str(lg.pid), "-i", "200ms"])
+    lg.summary()
+    lg.stop()
+    time.sleep(0.6)
+    assert tr.proc.poll() is None  # still running after its target is gone
+    intervals, summary, _ = tr.stop(sig=__import__("signal").SIGTERM)
+    assert all(not t["alive"] for t in summary["threads"])

@@ -1,0 +1,724 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/*
+ * test_cycle.c - the cycle state machine (include/cycle.h) fed synthetic
+ * scheduler and syscall event sequences; the model is deterministic, so
+ * every number is checked exactly.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <cmocka.h>
+
+#include "cycle.h"
+
+#define US	1000ULL
+#define MS	1000000ULL
+#define T0	(1000 * MS)	/* first requested release */
+
+/* One traced thread plus what the kernel side would pass to the hooks. */
+struct fx {
+	struct rtsup_thread t;
+	struct cycle_cfg cfg;
+	struct rtsup_cycle out;
+	__u64 minflt;		/* the task's fault counters */
+	__u64 majflt;
+	__s32 cpu;		/* CPU of the next switch-in */
+	int relative;		/* the delimiter is a relative sleep */
+};
+
+static int fx_setup(void **state)
+{
+	struct fx *f = calloc(1, sizeof(*f));
+
+	if (!f)
+		return -1;
+	cycle_thread_init(&f->t, 100, 100, 1);
+	f->cfg.ewma_w = 102;
+	*state = f;
+	return 0;
+}
+
+static int fx_teardown(void **state)
+{
+	free(*state);
+	return 0;
+}
+
+/*
+ * Small wrappers: the hooks with the fixture's counters and CPU. A known
+ * expected release is absolute (clock_nanosleep TIMER_ABSTIME) unless the
+ * fixture says the delimiter is a relative sleep.
+ */
+static __u32 enter(struct fx *f, __u64 now, __u64 expected)
+{
+	return cycle_delim_enter(&f->t, &f->cfg, now, expected,
+				 expected && !f->relative, f->minflt,
+				 f->majflt, &f->out);
+}
+
+static void leave(struct fx *f, __u64 now)
+{
+	cycle_delim_exit(&f->t, now, f->minflt, f->majflt);
+}
+
+static __u32 sw_out(struct fx *f, __u64 now, int voluntary)
+{
+	return cycle_switch_out(&f->t, &f->cfg, now, voluntary, f->minflt,
+				f->majflt, &f->out);
+}
+
+static __u32 sw_in(struct fx *f, __u64 now)
+{
+	return cycle_switch_in(&f->t, now, f->cpu, f->minflt, f->majflt);
+}
+
+/*
+ * delim_sleep - the delimiter sleeps: enter at 'now' asking for release
+ * 'expected', block, wakeup at 'wake', switch-in at 'in', return at 'exit'.
+ * Returns the CYC_EV_* bits of the delimiter entry.
+ */
+static __u32 delim_sleep(struct fx *f, __u64 now, __u64 expected, __u64 wake,
+			 __u64 in, __u64 exit)
+{
+	__u32 ev = enter(f, now, expected);
+
+	assert_int_equal(sw_out(f, now + 1 * US, 1), 0);
+	cycle_wakeup(&f->t, wake);
+	assert_int_equal(sw_in(f, in), 0);
+	leave(f, exit);
+	return ev;
+}
+
+/*
+ * steady - absolute sleeps, period 1 ms: release k is requested at
+ * T0 + k ms, woken 2 us late, switched in 5 us late, returns 1 us later
+ * and works 'exec' from the switch-in. Runs releases first..last; the
+ * thread enters the delimiter of release 'first' at 'now'.
+ */
+#define LAT	(5 * US)
+#define EXEC	(200 * US)
+
+static __u64 rel(int k)
+{
+	return T0 + (__u64)k * MS;
+}
+
+static __u64 steady(struct fx *f, __u64 now, int first, int last)
+{
+	int k;
+
+	for (k = first; k <= last; k++) {
+		delim_sleep(f, now, rel(k), rel(k) + 2 * US, rel(k) + LAT,
+			    rel(k) + LAT + 1 * US);
+		now = rel(k) + LAT + EXEC;
+	}
+	return now;	/* next delimiter entry */
+}
+
+/* wake_up - the rest of a delimiter sleep for release k, steady timing */
+static void wake_up(struct fx *f, int k)
+{
+	assert_int_equal(sw_out(f, rel(k) - 100 * US, 1), 0);
+	cycle_wakeup(&f->t, rel(k) + 2 * US);
+	assert_int_equal(sw_in(f, rel(k) + LAT), 0);
+	leave(f, rel(k) + LAT + 1 * US);
+}
+
+/* steady absolute sleeps: period, exec, cpu and latency are exact */
+static void test_cycle_steady_abs_sleep(void **state)
+{
+	struct fx *f = *state;
+	__u64 now;
+	__u32 ev;
+	int k;
+
+	/* the thread is tracked while running: its first delimiter */
+	ev = delim_sleep(f, rel(0) + 300 * US, rel(1), rel(1) + 2 * US,
+			 rel(1) + LAT, rel(1) + LAT + 1 * US);
+	assert_int_equal(ev, 0);
+	assert_int_equal(f->t.cs.mode, RTSUP_MODE_DELIM);
+	assert_int_equal(f->t.cycles, 0);
+	now = rel(1) + LAT + EXEC;
+
+	for (k = 2; k <= 11; k++) {
+		ev = enter(f, now, rel(k));
+		assert_int_equal(ev, CYC_EV_CLOSED);
+		assert_int_equal(f->out.start, rel(k - 1) + LAT);
+		assert_int_equal(f->out.exec, EXEC);
+		assert_int_equal(f->out.cpu, EXEC);	/* on CPU throughout */
+		assert_int_equal(f->out.latency, LAT);
+		assert_int_equal(f->out.nominal, MS);
+		assert_int_equal(f->out.preempt, 0);
+		assert_int_equal(f->out.blocks, 0);
+		assert_true(f->out.flags & RTSUP_CF_HAS_LATENCY);
+		assert_false(f->out.flags & (RTSUP_CF_MISS | RTSUP_CF_OVERRUN));
+		if (k == 2) {
+			assert_false(f->out.flags & RTSUP_CF_HAS_PERIOD);
+		} else {
+			assert_true(f->out.flags & RTSUP_CF_HAS_PERIOD);
+			assert_int_equal(f->out.period, MS);
+		}
+		wake_up(f, k);		/* finish the sleep of release k */
+		now = rel(k) + LAT + EXEC;
+	}
+	assert_int_equal(f->t.cycles, 10);
+	assert_int_equal(f->t.misses, 0);
+	assert_int_equal(f->t.overruns, 0);
+	assert_int_equal(f->t.m[RTSUP_M_PERIOD].count, 9);
+	assert_int_equal(f->t.m[RTSUP_M_PERIOD].sum, 9 * MS);
+	assert_int_equal(f->t.m[RTSUP_M_EXEC].sum, 10 * EXEC);
+	assert_int_equal(f->t.m[RTSUP_M_LATENCY].count, 10);
+	assert_int_equal(f->t.m[RTSUP_M_LATENCY].sum, 10 * LAT);
+	assert_int_equal(f->t.m[RTSUP_M_LATENCY].max, LAT);
+	assert_int_equal(f->t.vol_cs, 11);
+	assert_int_equal(f->t.invol_cs, 0);
+}
+
+/* lifetime min/max of the metrics after steady cycles */
+static void test_cycle_steady_lifetime_minmax(void **state)
+{
+	struct fx *f = *state;
+	__u64 now = steady(f, rel(0), 1, 5);
+
+	enter(f, now, rel(6));
+	assert_int_equal(f->t.cycles, 5);
+	assert_int_equal(f->t.m[RTSUP_M_PERIOD].max, MS);
+	assert_int_equal(f->t.m[RTSUP_M_PERIOD].min, MS);
+	assert_int_equal(f->t.m[RTSUP_M_EXEC].min, EXEC);
+	assert_int_equal(f->t.m[RTSUP_M_LATENCY].min, LAT);
+	/* the interval bank, reset by cycle_epoch, is right */
+	assert_int_equal(f->t.m[RTSUP_M_EXEC].win[0].min, EXEC);
+}
+
+/*
+ * relative sleep: the expected release is entry + duration; it gives the
+ * latency but neither a nominal period (cfg.period is used) nor a miss
+ */
+static void test_cycle_relative_sleep(void **state)
+{
+	struct fx *f = *state;
+	const __u64 dur = 800 * US, work = 150 * US, lat = 3 * US;
+	__u64 now = T0, s[4];
+	int k;
+
+	f->relative = 1;
+	for (k = 0; k < 4; k++) {
+		__u32 ev = delim_sleep(f, now, now + dur, now + dur + 1 * US,
+				       now + dur + lat, now + dur + lat + 1 * US);
+
+		s[k] = now + dur + lat;
+		if (k > 0) {
+			assert_int_equal(ev, CYC_EV_CLOSED);
+			assert_int_equal(f->out.exec, work);
+			assert_int_equal(f->out.cpu, work);
+			assert_int_equal(f->out.latency, lat);
+			assert_int_equal(f->out.nominal, 0);
+			assert_true(f->out.flags & RTSUP_CF_HAS_LATENCY);
+		}
+		if (k > 1)
+			assert_int_equal(f->out.period, s[k - 1] - s[k - 2]);
+		now = s[k] + work;
+	}
+	assert_int_equal(s[3] - s[2], work + dur + lat);
+	assert_int_equal(f->t.cycles, 3);
+	assert_int_equal(f->t.m[RTSUP_M_PERIOD].sum, 2 * (work + dur + lat));
+	assert_int_equal(f->t.overruns, 0);
+
+	/* the configured period is the nominal one: 150 us > 100 us */
+	f->cfg.period = 100 * US;
+	assert_int_equal(enter(f, now, now), CYC_EV_CLOSED);	/* 0 ns sleep */
+	assert_int_equal(f->out.nominal, 100 * US);
+	assert_true(f->out.flags & RTSUP_CF_OVERRUN);
+	assert_false(f->out.flags & RTSUP_CF_MISS);	/* never a miss */
+	assert_int_equal(f->t.misses, 0);
+	assert_int_equal(f->t.overruns, 1);
+}
+
+/* preemption inside a cycle: counted; CPU time excludes the time off CPU */
+static void test_cycle_preempt_in_cycle(void **state)
+{
+	struct fx *f = *state;
+	__u64 s = rel(2) + LAT;
+
+	steady(f, rel(0), 1, 2);
+	assert_int_equal(sw_out(f, s + 50 * US, 0), 0);
+	assert_int_equal(sw_in(f, s + 80 * US), 0);
+	assert_int_equal(enter(f, s + 200 * US, rel(3)), CYC_EV_CLOSED);
+	assert_int_equal(f->out.exec, 200 * US);
+	assert_int_equal(f->out.cpu, 170 * US);
+	assert_int_equal(f->out.preempt, 1);
+	assert_int_equal(f->out.blocks, 0);
+	assert_int_equal(f->t.invol_cs, 1);
+	assert_int_equal(f->t.unsafe[RTSUP_U_BLOCK], 0);
+	assert_int_equal(f->t.unsafe[RTSUP_U_MIGRATE], 0);
+}
+
+/* voluntary block inside a cycle: a block, unsafe, CYC_EV_BLOCK */
+static void test_cycle_block_in_cycle(void **state)
+{
+	struct fx *f = *state;
+	__u64 s = rel(2) + LAT;
+
+	steady(f, rel(0), 1, 2);
+	assert_int_equal(sw_out(f, s + 50 * US, 1), CYC_EV_BLOCK);
+	cycle_wakeup(&f->t, s + 90 * US);
+	assert_int_equal(sw_in(f, s + 100 * US), 0);
+	assert_int_equal(enter(f, s + 200 * US, rel(3)), CYC_EV_CLOSED);
+	assert_int_equal(f->out.exec, 200 * US);
+	assert_int_equal(f->out.cpu, 150 * US);
+	assert_int_equal(f->out.blocks, 1);
+	assert_int_equal(f->out.preempt, 0);
+	assert_int_equal(f->out.latency, LAT);	/* the block's wakeup is not it */
+	assert_int_equal(f->t.unsafe[RTSUP_U_BLOCK], 1);
+	assert_int_equal(f->t.cycles, 2);
+}
+
+/* deadline miss with an overrun: exec 1.5 ms in a 1 ms period */
+static void test_cycle_miss_overrun(void **state)
+{
+	struct fx *f = *state;
+	__u64 s = rel(2) + LAT, d = s + 1500 * US;
+	__u32 ev;
+
+	steady(f, rel(0), 1, 2);
+	ev = enter(f, d, rel(3));	/* release 3 is already past */
+	assert_int_equal(ev, CYC_EV_CLOSED | CYC_EV_MISS);
+	assert_true(f->out.flags & RTSUP_CF_MISS);
+	assert_true(f->out.flags & RTSUP_CF_OVERRUN);
+	assert_int_equal(f->out.exec, 1500 * US);
+	assert_int_equal(f->out.nominal, MS);
+	assert_int_equal(f->t.misses, 1);
+	assert_int_equal(f->t.overruns, 1);
+	/* the delimiter returns at once: the next cycle starts on its exit */
+	leave(f, d + 2 * US);
+	assert_int_equal(f->t.cs.start, d + 2 * US);
+	ev = enter(f, d + 102 * US, rel(4));
+	assert_int_equal(ev, CYC_EV_CLOSED);
+	assert_int_equal(f->out.start, d + 2 * US);
+	assert_int_equal(f->out.period, d + 2 * US - s);
+	assert_int_equal(f->out.latency, d + 2 * US - rel(3));
+	assert_int_equal(f->out.exec, 100 * US);
+	assert_false(f->out.flags & (RTSUP_CF_MISS | RTSUP_CF_OVERRUN));
+	assert_int_equal(f->t.misses, 1);
+	assert_int_equal(f->t.overruns, 1);
+}
+
+/* a late start misses the next release without an overrun */
+static void test_cycle_miss_without_overrun(void **state)
+{
+	struct fx *f = *state;
+	__u64 s = rel(2) + 900 * US;
+
+	steady(f, rel(0), 1, 1);
+	delim_sleep(f, rel(1) + LAT + EXEC, rel(2), rel(2) + 1 * US, s, s + 1 * US);
+	assert_int_equal(enter(f, s + 200 * US, rel(3)), CYC_EV_CLOSED | CYC_EV_MISS);
+	assert_int_equal(f->out.latency, 900 * US);
+	assert_true(f->out.flags & RTSUP_CF_MISS);
+	assert_false(f->out.flags & RTSUP_CF_OVERRUN);
+	assert_int_equal(f->t.misses, 1);
+	assert_int_equal(f->t.overruns, 0);
+}
+
+/* the miss boundary: entering at the requested release is already late */
+static void test_cycle_miss_boundary(void **state)
+{
+	struct fx *f = *state;
+
+	steady(f, rel(0), 1, 2);
+	assert_int_equal(enter(f, rel(3) - 1, rel(3)), CYC_EV_CLOSED);
+	assert_false(f->out.flags & RTSUP_CF_MISS);
+	wake_up(f, 3);
+	assert_int_equal(enter(f, rel(4), rel(4)), CYC_EV_CLOSED | CYC_EV_MISS);
+	assert_true(f->out.flags & RTSUP_CF_MISS);
+	assert_int_equal(f->t.misses, 1);
+}
+
+/* switched in before the requested release: latency 0, not negative */
+static void test_cycle_early_release(void **state)
+{
+	struct fx *f = *state;
+	__u64 now = steady(f, rel(0), 1, 1);
+
+	delim_sleep(f, now, rel(2), rel(2) - 20 * US, rel(2) - 10 * US,
+		    rel(2) - 9 * US);
+	assert_int_equal(enter(f, rel(2) + EXEC, rel(3)), CYC_EV_CLOSED);
+	assert_true(f->out.flags & RTSUP_CF_HAS_LATENCY);
+	assert_int_equal(f->out.latency, 0);
+	assert_int_equal(f->out.exec, EXEC + 10 * US);
+}
+
+/* a delimiter that does not sleep: the cycle starts at its exit */
+static void test_cycle_delim_no_sleep(void **state)
+{
+	struct fx *f = *state;
+	__u64 now = steady(f, rel(0), 1, 2);
+
+	/* release 3 requested on time, but the call returns at once */
+	assert_int_equal(enter(f, now, rel(3)), CYC_EV_CLOSED);
+	leave(f, now + 4 * US);
+	assert_int_equal(f->t.cs.start, now + 4 * US);
+	assert_int_equal(f->t.cs.run_since, now + 4 * US);
+	assert_int_equal(enter(f, now + 54 * US, rel(4)), CYC_EV_CLOSED);
+	assert_int_equal(f->out.start, now + 4 * US);
+	assert_int_equal(f->out.exec, 50 * US);
+	assert_int_equal(f->out.cpu, 50 * US);
+	assert_int_equal(f->out.period, now + 4 * US - (rel(2) + LAT));
+	assert_int_equal(f->t.cycles, 3);
+	assert_int_equal(f->t.vol_cs, 2);
+}
+
+/* migration inside a cycle counts as unsafe; at the release it does not */
+static void test_cycle_migration(void **state)
+{
+	struct fx *f = *state;
+	__u64 s = rel(2) + LAT;
+
+	steady(f, rel(0), 1, 2);	/* on CPU 0 so far */
+	assert_int_equal(f->t.migrations, 0);
+	assert_int_equal(sw_out(f, s + 50 * US, 0), 0);
+	f->cpu = 1;
+	assert_int_equal(sw_in(f, s + 60 * US), CYC_EV_MIGRATE);
+	assert_int_equal(f->t.migrations, 1);
+	assert_int_equal(f->t.unsafe[RTSUP_U_MIGRATE], 1);
+	/* woken on CPU 2 for release 3: a migration, not an unsafe one */
+	f->cpu = 2;
+	assert_int_equal(delim_sleep(f, s + 200 * US, rel(3), rel(3) + 2 * US,
+				     rel(3) + LAT, rel(3) + LAT + 1 * US),
+			 CYC_EV_CLOSED);
+	assert_int_equal(f->out.migrations, 1);
+	assert_int_equal(f->out.cpu, 190 * US);
+	assert_int_equal(f->t.migrations, 2);
+	assert_int_equal(f->t.unsafe[RTSUP_U_MIGRATE], 1);
+	assert_int_equal(f->t.cs.last_cpu, 2);
+}
+
+/* unsafe syscalls count inside a cycle only, never inside the delimiter */
+static void test_cycle_unsafe_syscall(void **state)
+{
+	struct fx *f = *state;
+	__u64 now;
+
+	/* before the first cycle: nothing runs, nothing counts */
+	assert_int_equal(cycle_syscall(&f->t, 1), 0);
+	now = steady(f, rel(0), 1, 2);
+	assert_int_equal(cycle_syscall(&f->t, 1), CYC_EV_UNSAFE);
+	assert_int_equal(cycle_syscall(&f->t, 0), 0);
+	assert_int_equal(enter(f, now, rel(3)), CYC_EV_CLOSED);
+	assert_int_equal(f->out.syscalls, 2);
+	assert_int_equal(f->out.unsafe_sys, 1);
+	/* inside the delimiter */
+	assert_int_equal(cycle_syscall(&f->t, 1), 0);
+	assert_int_equal(f->t.syscalls, 2);
+	assert_int_equal(f->t.unsafe[RTSUP_U_SYSCALL], 1);
+	wake_up(f, 3);
+	assert_int_equal(enter(f, rel(3) + LAT + EXEC, rel(4)), CYC_EV_CLOSED);
+	assert_int_equal(f->out.syscalls, 0);
+	assert_int_equal(f->out.unsafe_sys, 0);
+}
+
+/* page faults: the difference of the counters at cycle start and end */
+static void test_cycle_page_faults(void **state)
+{
+	struct fx *f = *state;
+	__u64 now = steady(f, rel(0), 1, 1);
+	__u32 ev;
+
+	f->minflt = 3;			/* faults of the running cycle */
+	ev = enter(f, now, rel(2));
+	assert_int_equal(ev, CYC_EV_CLOSED | CYC_EV_FAULTS);
+	assert_int_equal(f->out.minflt, 3);
+	assert_int_equal(f->out.majflt, 0);
+	/* faults inside the delimiter are not a cycle's */
+	f->minflt = 10;
+	f->majflt = 2;
+	wake_up(f, 2);
+	f->minflt = 14;
+	f->majflt = 3;
+	ev = enter(f, rel(2) + LAT + EXEC, rel(3));
+	assert_int_equal(ev, CYC_EV_CLOSED | CYC_EV_FAULTS);
+	assert_int_equal(f->out.minflt, 4);
+	assert_int_equal(f->out.majflt, 1);
+	assert_int_equal(f->t.minflt, 7);
+	assert_int_equal(f->t.majflt, 1);
+	assert_int_equal(f->t.unsafe[RTSUP_U_MINFLT], 7);
+	assert_int_equal(f->t.unsafe[RTSUP_U_MAJFLT], 1);
+	/* counters move while asleep only: the next cycle has none */
+	f->minflt = 20;
+	wake_up(f, 3);
+	ev = enter(f, rel(3) + LAT + EXEC, rel(4));
+	assert_int_equal(ev, CYC_EV_CLOSED);
+	assert_int_equal(f->out.minflt, 0);
+	assert_int_equal(f->t.minflt, 7);
+}
+
+/* activation mode: wakeup -> switch-in starts, voluntary switch-out ends */
+static void test_cycle_activation_mode(void **state)
+{
+	struct fx *f = *state;
+	__u64 w1 = T0, s1 = w1 + 3 * US, w2 = T0 + 500 * US, s2 = w2 + 4 * US;
+	__u64 s3 = T0 + 900 * US;
+
+	cycle_wakeup(&f->t, w1);
+	assert_int_equal(sw_in(f, s1), 0);
+	assert_int_equal(f->t.cs.mode, RTSUP_MODE_ACT);
+	assert_int_equal(sw_out(f, s1 + 100 * US, 1), CYC_EV_CLOSED);
+	assert_int_equal(f->out.start, s1);
+	assert_int_equal(f->out.exec, 100 * US);
+	assert_int_equal(f->out.cpu, 100 * US);
+	assert_int_equal(f->out.latency, 3 * US);
+	assert_int_equal(f->out.flags, RTSUP_CF_HAS_LATENCY);
+
+	cycle_wakeup(&f->t, w2);
+	sw_in(f, s2);
+	assert_int_equal(sw_out(f, s2 + 120 * US, 1), CYC_EV_CLOSED);
+	assert_int_equal(f->out.period, s2 - s1);
+	assert_int_equal(f->out.latency, 4 * US);
+	assert_int_equal(f->out.flags, RTSUP_CF_HAS_LATENCY | RTSUP_CF_HAS_PERIOD);
+
+	/* a preemption does not end an activation; nominal from cfg.period */
+	f->cfg.period = 45 * US;
+	cycle_wakeup(&f->t, s3 - 1 * US);
+	sw_in(f, s3);
+	assert_int_equal(sw_out(f, s3 + 10 * US, 0), 0);
+	sw_in(f, s3 + 20 * US);
+	assert_int_equal(sw_out(f, s3 + 50 * US, 1), CYC_EV_CLOSED);
+	assert_int_equal(f->out.exec, 50 * US);
+	assert_int_equal(f->out.cpu, 40 * US);
+	assert_int_equal(f->out.preempt, 1);
+	assert_int_equal(f->out.nominal, 45 * US);
+	assert_true(f->out.flags & RTSUP_CF_OVERRUN);
+	assert_int_equal(f->t.cycles, 3);
+	assert_int_equal(f->t.overruns, 1);
+	assert_int_equal(f->t.m[RTSUP_M_LATENCY].sum, 3 * US + 4 * US + 1 * US);
+}
+
+/* the first delimiter after activations drops the start-up statistics */
+static void test_cycle_activation_then_delim_resets(void **state)
+{
+	struct fx *f = *state;
+	__u64 s = T0 + 500 * US;
+	__u32 ev;
+
+	cycle_wakeup(&f->t, T0);
+	sw_in(f, T0 + 3 * US);
+	assert_int_equal(cycle_syscall(&f->t, 1), CYC_EV_UNSAFE);
+	sw_out(f, T0 + 100 * US, 1);
+	cycle_wakeup(&f->t, s - 1 * US);
+	sw_in(f, s);			/* an activation is running */
+	assert_int_equal(f->t.cycles, 1);
+	assert_int_equal(f->t.unsafe[RTSUP_U_SYSCALL], 1);
+
+	ev = enter(f, s + 50 * US, rel(1));
+	assert_int_equal(ev, CYC_EV_RESET);	/* no cycle closed */
+	assert_int_equal(f->t.cs.mode, RTSUP_MODE_DELIM);
+	assert_int_equal(f->t.cycles, 0);
+	assert_int_equal(f->t.m[RTSUP_M_EXEC].count, 0);
+	assert_int_equal(f->t.m[RTSUP_M_LATENCY].count, 0);
+	assert_int_equal(f->t.unsafe[RTSUP_U_SYSCALL], 0);
+	assert_int_equal(f->t.syscalls, 0);
+
+	sw_out(f, s + 51 * US, 1);
+	cycle_wakeup(&f->t, rel(1) + 2 * US);
+	sw_in(f, rel(1) + LAT);
+	leave(f, rel(1) + LAT + 1 * US);
+	ev = enter(f, rel(1) + LAT + EXEC, rel(2));
+	assert_int_equal(ev, CYC_EV_CLOSED);	/* no second reset */
+	assert_false(f->out.flags & RTSUP_CF_HAS_PERIOD);
+	assert_int_equal(f->out.latency, LAT);
+	assert_int_equal(f->t.cycles, 1);
+	assert_int_equal(f->t.m[RTSUP_M_EXEC].count, 1);
+	assert_int_equal(f->t.m[RTSUP_M_PERIOD].count, 0);
+}
+
+/* the lifetime min after the start-up statistics were dropped */
+static void test_cycle_reset_lifetime_min(void **state)
+{
+	struct fx *f = *state;
+	__u64 now;
+
+	cycle_wakeup(&f->t, T0 - 10 * MS);
+	sw_in(f, T0 - 10 * MS + 3 * US);
+	sw_out(f, T0 - 10 * MS + 50 * US, 1);
+	cycle_wakeup(&f->t, T0 - 5 * MS);
+	sw_in(f, T0 - 5 * MS);
+	assert_int_equal(enter(f, T0 - 4 * MS, rel(1)), CYC_EV_RESET);
+	sw_out(f, T0 - 4 * MS + 1 * US, 1);
+	cycle_wakeup(&f->t, rel(1) + 2 * US);
+	sw_in(f, rel(1) + LAT);
+	leave(f, rel(1) + LAT + 1 * US);
+	now = steady(f, rel(1) + LAT + EXEC, 2, 3);
+	enter(f, now, rel(4));
+	assert_int_equal(f->t.cycles, 3);
+	assert_int_equal(f->t.m[RTSUP_M_EXEC].min, EXEC);
+	assert_int_equal(f->t.m[RTSUP_M_EXEC].max, EXEC);
+}
+
+/* a thread exiting mid-cycle: the cycle is lost, its faults are not */
+static void test_cycle_exit_mid_cycle(void **state)
+{
+	struct fx *f = *state;
+	__u64 s = rel(2) + LAT;
+
+	enter(f, steady(f, rel(0), 1, 1), rel(2));
+	f->minflt = 10;			/* counters at the start of release 2 */
+	wake_up(f, 2);
+	assert_int_equal(f->t.cycles, 1);
+	assert_int_equal(f->t.cs.start, s);
+	cycle_exit(&f->t, s + 100 * US, 15, 1);
+	assert_int_equal(f->t.exited, s + 100 * US);
+	assert_int_equal(f->t.exit_mid_cycle, 1);
+	assert_int_equal(f->t.cycles, 1);
+	assert_int_equal(f->t.m[RTSUP_M_EXEC].count, 1);
+	assert_int_equal(f->t.minflt, 5);
+	assert_int_equal(f->t.majflt, 1);
+	assert_int_equal(f->t.unsafe[RTSUP_U_MINFLT], 5);
+	assert_int_equal(f->t.unsafe[RTSUP_U_MAJFLT], 1);
+	assert_int_equal(f->t.cs.start, 0);
+}
+
+/* a thread exiting inside its delimiter is not mid-cycle */
+static void test_cycle_exit_in_delim(void **state)
+{
+	struct fx *f = *state;
+	__u64 now = steady(f, rel(0), 1, 2);
+
+	enter(f, now, rel(3));
+	cycle_exit(&f->t, now + 10 * US, 50, 5);
+	assert_int_equal(f->t.exit_mid_cycle, 0);
+	assert_int_equal(f->t.exited, now + 10 * US);
+	assert_int_equal(f->t.cycles, 2);
+	assert_int_equal(f->t.minflt, 0);
+	assert_int_equal(f->t.cs.in_delim, 0);
+}
+
+/* run_exec - one steady-ish cycle of release k with the given exec */
+static void run_exec(struct fx *f, int k, __u64 exec)
+{
+	delim_sleep(f, rel(k - 1) + LAT + exec, rel(k), rel(k) + 2 * US,
+		    rel(k) + LAT, rel(k) + LAT + 1 * US);
+}
+
+/* interval banks: reset once per new epoch, other bank kept */
+static void test_cycle_epoch_banks(void **state)
+{
+	struct fx *f = *state;
+	struct rtsup_metric_stats *e = &f->t.m[RTSUP_M_EXEC];
+
+	steady(f, rel(0), 1, 1);
+	f->cfg.epoch = 0;
+	run_exec(f, 2, 200 * US);	/* closes release 1: exec 200 */
+	run_exec(f, 3, 300 * US);	/* closes release 2: exec 300 */
+	assert_int_equal(f->t.epoch, 0);
+	assert_int_equal(e->win[0].min, 200 * US);
+	assert_int_equal(e->win[0].max, 300 * US);
+
+	f->cfg.epoch = 1;
+	run_exec(f, 4, 250 * US);
+	assert_int_equal(f->t.epoch, 1);
+	assert_int_equal(e->win[1].min, 250 * US);
+	assert_int_equal(e->win[1].max, 250 * US);
+	run_exec(f, 5, 260 * US);	/* same epoch: no reset */
+	assert_int_equal(e->win[1].min, 250 * US);
+	assert_int_equal(e->win[1].max, 260 * US);
+	assert_int_equal(e->win[0].min, 200 * US);	/* untouched */
+	assert_int_equal(e->win[0].max, 300 * US);
+
+	f->cfg.epoch = 2;
+	run_exec(f, 6, 400 * US);
+	assert_int_equal(e->win[0].min, 400 * US);
+	assert_int_equal(e->win[0].max, 400 * US);
+	assert_int_equal(e->win[1].min, 250 * US);
+	assert_int_equal(e->win[1].max, 260 * US);
+	assert_int_equal(e->max, 400 * US);
+	/* every metric's bank was reset, not only exec's */
+	assert_int_equal(f->t.m[RTSUP_M_LATENCY].win[0].min, LAT);
+	assert_int_equal(f->t.m[RTSUP_M_PERIOD].win[0].max, MS);
+}
+
+/* unknown expected release (epoll-like): latency from the wakeup */
+static void test_cycle_unknown_expected_uses_wakeup(void **state)
+{
+	struct fx *f = *state;
+	__u64 now = T0;
+	int k;
+
+	for (k = 0; k < 3; k++) {
+		__u32 ev = delim_sleep(f, now, 0, now + 700 * US,
+				       now + 707 * US, now + 708 * US);
+
+		if (k > 0) {
+			assert_int_equal(ev, CYC_EV_CLOSED);
+			assert_int_equal(f->out.latency, 7 * US);
+			assert_true(f->out.flags & RTSUP_CF_HAS_LATENCY);
+			assert_int_equal(f->out.nominal, 0);	/* no cfg.period */
+			assert_false(f->out.flags & (RTSUP_CF_MISS | RTSUP_CF_OVERRUN));
+			assert_int_equal(f->out.exec, 100 * US);
+		}
+		now += 807 * US;
+	}
+	assert_int_equal(f->out.period, 807 * US);
+	assert_int_equal(f->t.m[RTSUP_M_LATENCY].count, 2);
+	/* epoll returning at once (data ready): no wakeup, no latency */
+	enter(f, now, 0);
+	leave(f, now + 2 * US);
+	enter(f, now + 52 * US, 0);
+	assert_false(f->out.flags & RTSUP_CF_HAS_LATENCY);
+	assert_int_equal(f->out.start, now + 2 * US);
+}
+
+/*
+ * preempted inside the delimiter after the release switch-in, before the
+ * syscall returns: the cycle starts at the release, but the time off CPU
+ * is not CPU time.
+ */
+static void test_cycle_preempt_in_delim_after_release(void **state)
+{
+	struct fx *f = *state;
+	__u64 now = steady(f, rel(0), 1, 1), s = rel(2) + LAT;
+
+	enter(f, now, rel(2));
+	sw_out(f, now + 1 * US, 1);
+	cycle_wakeup(&f->t, rel(2) + 2 * US);
+	sw_in(f, s);
+	sw_out(f, s + 1 * US, 0);		/* preempted before the return */
+	sw_in(f, s + 31 * US);
+	leave(f, s + 32 * US);
+	assert_int_equal(f->t.cs.start, s);	/* release: first switch-in */
+	assert_int_equal(enter(f, s + 200 * US, rel(3)), CYC_EV_CLOSED);
+	assert_int_equal(f->out.exec, 200 * US);
+	assert_int_equal(f->out.latency, LAT);
+	assert_int_equal(f->out.cpu, 170 * US);
+}
+
+#define T(fn) cmocka_unit_test_setup_teardown(fn, fx_setup, fx_teardown)
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		T(test_cycle_steady_abs_sleep),
+		T(test_cycle_steady_lifetime_minmax),
+		T(test_cycle_relative_sleep),
+		T(test_cycle_preempt_in_cycle),
+		T(test_cycle_block_in_cycle),
+		T(test_cycle_miss_overrun),
+		T(test_cycle_miss_without_overrun),
+		T(test_cycle_miss_boundary),
+		T(test_cycle_early_release),
+		T(test_cycle_delim_no_sleep),
+		T(test_cycle_migration),
+		T(test_cycle_unsafe_syscall),
+		T(test_cycle_page_faults),
+		T(test_cycle_activation_mode),
+		T(test_cycle_activation_then_delim_resets),
+		T(test_cycle_reset_lifetime_min),
+		T(test_cycle_exit_mid_cycle),
+		T(test_cycle_exit_in_delim),
+		T(test_cycle_epoch_banks),
+		T(test_cycle_unknown_expected_uses_wakeup),
+		T(test_cycle_preempt_in_delim_after_release),
+	};
+
+	return cmocka_run_group_tests_name("cycle", tests, NULL, NULL);
+}

@@ -1,0 +1,276 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/* collector.c - read the kernel's maps into the model, once per interval */
+#include <errno.h>
+#include <sched.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <bpf/bpf.h>
+#include <bpf/libbpf.h>
+#include "collector.h"
+#include "cycle.h"
+#include "targets.h"
+#include "rtsup.skel.h"
+
+__u64 mono_now(void)
+{
+	struct timespec ts;
+
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return ts.tv_sec * 1000000000ULL + ts.tv_nsec;
+}
+
+/* clock_offset - offset of a clock to CLOCK_MONOTONIC, in ns */
+static __s64 clock_offset(clockid_t clk)
+{
+	struct timespec a, m;
+
+	if (clock_gettime(clk, &a))
+		return 0;
+	clock_gettime(CLOCK_MONOTONIC, &m);
+	return (a.tv_sec - m.tv_sec) * 1000000000LL + (a.tv_nsec - m.tv_nsec);
+}
+
+/* update_clocks - let the kernel side convert absolute sleeps to its clock */
+static void update_clocks(struct collector *c)
+{
+	static const clockid_t clks[] = { CLOCK_REALTIME, CLOCK_BOOTTIME, CLOCK_TAI };
+	size_t i;
+
+	for (i = 0; i < sizeof(clks) / sizeof(clks[0]); i++)
+		c->skel->bss->clock_off[clks[i]] = clock_offset(clks[i]);
+	c->real_off = c->skel->bss->clock_off[CLOCK_REALTIME];
+}
+
+/* on_event - ring buffer callback: keep the event for the sinks */
+static int on_event(void *ctx, void *data, size_t len)
+{
+	struct collector *c = ctx;
+
+	if (len < sizeof(struct rtsup_event))
+		return 0;
+	c->events_total++;
+	if (c->nevents == COLLECTOR_MAX_EVENTS) {
+		c->events_over++;
+		return 0;
+	}
+	memcpy(&c->events[c->nevents++], data, sizeof(struct rtsup_event));
+	return 0;
+}
+
+/* add_initial - a thread found by the start-up scan goes into the maps */
+static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, bool process)
+{
+	struct collector *c = ctx;
+	struct rtsup_thread *t = calloc(1, sizeof(*t));
+	__u32 key = tid, one = 1, k = tgid;
+	int err = 0;
+
+	if (!t)
+		return -ENOMEM;
+	cycle_thread_init(t, tid, tgid, mono_now());
+	strncpy(t->comm, comm, RTSUP_COMM_LEN - 1);
+	if (process)
+		bpf_map_update_elem(bpf_map__fd(c->skel->maps.tgids), &k, &one, BPF_ANY);
+	/* the kernel may have added it since attach: keep its entry */
+	if (bpf_map_update_elem(bpf_map__fd(c->skel->maps.threads), &key, t, BPF_NOEXIST) &&
+	    errno != EEXIST) {
+		if (errno == E2BIG)
+			c->counters[RTSUP_C_MAP_FULL]++;
+		else
+			err = -errno;
+	}
+	free(t);
+	return err;
+}
+
+int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct options *o)
+{
+	int err;
+
+	memset(c, 0, sizeof(*c));
+	c->skel = skel;
+	c->o = o;
+	c->start_ns = mono_now();
+	update_clocks(c);
+	c->rb = ring_buffer__new(bpf_map__fd(skel->maps.events), on_event, c, NULL);
+	if (!c->rb) {
+		fprintf(stderr, "rtsup-trace: cannot create the ring buffer: %s\n", strerror(errno));
+		return -1;
+	}
+	err = targets_scan(&o->targets, add_initial, c);
+	if (err) {
+		fprintf(stderr, "rtsup-trace: adding targets: %s\n", strerror(-err));
+		return -1;
+	}
+	return 0;
+}
+
+int collector_poll(struct collector *c, int ms)
+{
+	int err = ring_buffer__poll(c->rb, ms);
+
+	return err == -EINTR ? 0 : err;
+}
+
+/* read_counters - sum the per-CPU counters of the kernel side */
+static void read_counters(struct collector *c)
+{
+	int ncpu = libbpf_num_possible_cpus(), fd = bpf_map__fd(c->skel->maps.counters);
+	__u64 vals[ncpu > 0 ? ncpu : 1];
+	__u32 k;
+	int i;
+
+	for (k = 0; k < RTSUP_C_NR; k++) {
+		__u64 sum = k == RTSUP_C_MAP_FULL ? c->counters[k] : 0;
+
+		if (ncpu > 0 && !bpf_map_lookup_elem(fd, &k, vals))
+			for (i = 0; i < ncpu; i++)
+				sum += vals[i];
+		/* user-side misses of the start-up scan stay in MAP_FULL */
+		if (k != RTSUP_C_MAP_FULL || sum > c->counters[k])
+			c->counters[k] = sum;
+	}
+}
+
+/* read_unsafe_sys - per-syscall unsafe counts into the model */
+static void read_unsafe_sys(struct collector *c)
+{
+	int fd = bpf_map__fd(c->skel->maps.unsafe_sys);
+	struct rtsup_sys_key key, next, *prev = NULL;
+	struct thread_model *tm;
+	__u64 n;
+
+	while (!bpf_map_get_next_key(fd, prev, &next)) {
+		key = next;
+		prev = &key;
+		if (bpf_map_lookup_elem(fd, &key, &n))
+			continue;
+		tm = model_get(&c->model, key.tid, false);
+		/* counts of the start-up phase stay out of a delimiter thread */
+		if (tm && key.mode == tm->cur.cs.mode)
+			model_sys_set(tm, key.nr, n);
+	}
+}
+
+/* refresh_identity - scheduling attributes of a live thread */
+static void refresh_identity(struct thread_model *tm)
+{
+	struct sched_param sp;
+
+	tm->policy = sched_getscheduler(tm->tid);
+	if (tm->policy < 0)
+		return;
+	tm->policy &= ~SCHED_RESET_ON_FORK;
+	tm->prio = sched_getparam(tm->tid, &sp) ? 0 : sp.sched_priority;
+	cpu_list(tm->tid, tm->cpus, sizeof(tm->cpus));
+}
+
+int collector_sample(struct collector *c)
+{
+	int fd = bpf_map__fd(c->skel->maps.threads);
+	__u32 key, next, *prev = NULL;
+	struct rtsup_thread *t = malloc(sizeof(*t));
+	struct thread_model *tm;
+	int i;
+
+	if (!t)
+		return -ENOMEM;
+	/* new interval: the kernel writes the other min/max bank from now on */
+	c->bank = c->skel->bss->epoch & 1;
+	c->skel->bss->epoch++;
+	update_clocks(c);
+	collector_poll(c, 0);
+	for (i = 0; i < c->model.n; i++) {
+		tm = &c->model.t[i];
+		if (tm->alive) {
+			tm->prev = tm->cur;
+			tm->have_prev = true;
+		}
+		tm->alive = false;
+	}
+	while (!bpf_map_get_next_key(fd, prev, &next)) {
+		key = next;
+		prev = &key;
+		if (bpf_map_lookup_elem(fd, &key, t))
+			continue;
+		tm = model_get(&c->model, key, true);
+		if (!tm)
+			break;
+		/* a tid reused by a new thread starts a new model */
+		if (tm->cur.first_seen && tm->cur.first_seen != t->first_seen) {
+			model_remove(&c->model, key);
+			tm = model_get(&c->model, key, true);
+		}
+		tm->cur = *t;
+		tm->tgid = t->tgid;
+		memcpy(tm->comm, t->comm, RTSUP_COMM_LEN);
+		tm->alive = !t->exited;
+		if (tm->alive)
+			refresh_identity(tm);
+		else
+			tm->policy = -1;
+	}
+	free(t);
+	read_unsafe_sys(c);
+	read_counters(c);
+	return 0;
+}
+
+/* forget_sys - drop a dead thread's unsafe syscall entries */
+static void forget_sys(struct collector *c, __u32 tid)
+{
+	int fd = bpf_map__fd(c->skel->maps.unsafe_sys);
+	struct rtsup_sys_key key, next, *prev = NULL;
+
+	while (!bpf_map_get_next_key(fd, prev, &next)) {
+		key = next;
+		if (key.tid == tid) {
+			bpf_map_delete_elem(fd, &key);
+			continue;	/* restart after the deleted key */
+		}
+		prev = &key;
+	}
+}
+
+void collector_reap(struct collector *c)
+{
+	int fd = bpf_map__fd(c->skel->maps.threads), tfd = bpf_map__fd(c->skel->maps.tgids);
+	__u32 key, next, *prev = NULL;
+	int i, j;
+
+	for (i = 0; i < c->model.n; i++) {
+		struct thread_model *tm = &c->model.t[i];
+
+		for (j = 0; j < tm->nsys; j++)
+			tm->sys[j].prev = tm->sys[j].total;
+		if (tm->alive || tm->reported_exit)
+			continue;
+		/* reported once: the kernel entry is freed, the model keeps the numbers */
+		tm->reported_exit = true;
+		bpf_map_delete_elem(fd, &tm->tid);
+		forget_sys(c, tm->tid);
+	}
+	/* processes that are gone must not match a reused pid */
+	while (!bpf_map_get_next_key(tfd, prev, &next)) {
+		key = next;
+		if (!process_exists(key)) {
+			bpf_map_delete_elem(tfd, &key);
+			continue;
+		}
+		prev = &key;
+	}
+}
+
+void collector_clear_events(struct collector *c)
+{
+	c->nevents = 0;
+	c->events_over = 0;
+}
+
+void collector_free(struct collector *c)
+{
+	ring_buffer__free(c->rb);
+	model_free(&c->model);
+}

@@ -1,0 +1,48 @@
+/* SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause */
+/*
+ * collector.h - kernel maps -> model: once per interval it flips the epoch,
+ * reads every thread entry and the unsafe syscall counts, frees the entries
+ * of dead threads, and gathers the ring buffer's rare events.
+ */
+#ifndef RTSUP_COLLECTOR_H
+#define RTSUP_COLLECTOR_H
+
+#include <stdbool.h>
+#include "model.h"
+#include "options.h"
+
+struct rtsup_bpf;
+struct ring_buffer;
+
+#define COLLECTOR_MAX_EVENTS 256
+
+struct collector {
+	struct rtsup_bpf *skel;
+	const struct options *o;
+	struct model model;
+	struct ring_buffer *rb;
+	__u32 bank;			/* interval bank of the last sample */
+	__u64 counters[RTSUP_C_NR];	/* the kernel side's own counters */
+	struct rtsup_event events[COLLECTOR_MAX_EVENTS];
+	int nevents;
+	__u64 events_over;		/* events beyond COLLECTOR_MAX_EVENTS */
+	__u64 events_total;
+	__s64 real_off;			/* CLOCK_REALTIME - CLOCK_MONOTONIC, ns */
+	__u64 start_ns;			/* monotonic start */
+};
+
+/* collector_init - ring buffer, initial scan of the targets */
+int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct options *o);
+/* collector_poll - wait up to ms for rare events */
+int collector_poll(struct collector *c, int ms);
+/* collector_sample - end an interval: refresh the model from the maps */
+int collector_sample(struct collector *c);
+/* collector_reap - after the sinks ran: free what dead threads left */
+void collector_reap(struct collector *c);
+/* collector_clear_events - forget the events of the interval */
+void collector_clear_events(struct collector *c);
+void collector_free(struct collector *c);
+/* mono_now - CLOCK_MONOTONIC in ns, the clock of the BPF timestamps */
+__u64 mono_now(void);
+
+#endif

@@ -1,0 +1,24 @@
+/* SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause */
+/* loader.h - open, configure, load and attach the BPF programs */
+#ifndef RTSUP_LOADER_H
+#define RTSUP_LOADER_H
+
+#include <stdbool.h>
+#include "options.h"
+
+struct rtsup_bpf;
+
+struct loader {
+	struct rtsup_bpf *skel;
+	bool tp_btf;		/* which program set is attached */
+	int cgroup_fd;
+};
+
+/*
+ * loader_start - check privileges and BTF, load and attach; on error print
+ * one line and return -1.
+ */
+int loader_start(struct loader *l, const struct options *o);
+void loader_stop(struct loader *l);
+
+#endif

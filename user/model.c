@@ -1,0 +1,244 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/* model.c - per-thread model: snapshots, interval deltas, percentiles */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "model.h"
+#include "hist.h"
+
+__u64 hist_percentile(const __u32 *cur, const __u32 *prev, double q, __u64 min,
+		      __u64 max)
+{
+	__u64 total = 0, rank, acc = 0, mid;
+	int b;
+
+	for (b = 0; b < HIST_BUCKETS; b++)
+		total += cur[b] - (prev ? prev[b] : 0);
+	if (!total)
+		return 0;
+	/* nearest rank, as a sorted array would give it */
+	rank = (__u64)ceil(q * (double)total);
+	if (rank < 1)
+		rank = 1;
+	for (b = 0; b < HIST_BUCKETS; b++) {
+		acc += cur[b] - (prev ? prev[b] : 0);
+		if (acc >= rank)
+			break;
+	}
+	if (b >= HIST_BUCKETS)
+		b = HIST_BUCKETS - 1;
+	/* bucket middle: at most half a bucket (1/16) from the true value */
+	mid = hist_bucket_low(b) + (hist_bucket_high(b) - hist_bucket_low(b)) / 2;
+	if (b == HIST_BUCKETS - 1)
+		mid = max;
+	if (mid < min)
+		mid = min;
+	if (mid > max)
+		mid = max;
+	return mid;
+}
+
+void metric_view_life(const struct rtsup_metric_stats *s, struct metric_view *v)
+{
+	memset(v, 0, sizeof(*v));
+	v->count = s->count;
+	if (!s->count)
+		return;
+	v->min = s->min;
+	v->max = s->max;
+	v->mean = (double)s->sum / (double)s->count;
+	v->ewma = (double)s->ewma / (1 << RTSUP_EWMA_SHIFT);
+	v->p50 = hist_percentile(s->hist, NULL, 0.50, s->min, s->max);
+	v->p99 = hist_percentile(s->hist, NULL, 0.99, s->min, s->max);
+	v->p999 = hist_percentile(s->hist, NULL, 0.999, s->min, s->max);
+}
+
+void metric_view_window(const struct rtsup_metric_stats *cur,
+			const struct rtsup_metric_stats *prev, __u32 bank,
+			struct metric_view *v)
+{
+	const struct rtsup_minmax *mm = &cur->win[bank & 1];
+
+	if (!prev) {
+		metric_view_life(cur, v);
+		return;
+	}
+	memset(v, 0, sizeof(*v));
+	v->count = cur->count - prev->count;
+	if (!v->count)
+		return;
+	v->min = mm->min;
+	v->max = mm->max;
+	v->mean = (double)(cur->sum - prev->sum) / (double)v->count;
+	v->ewma = (double)cur->ewma / (1 << RTSUP_EWMA_SHIFT);
+	v->p50 = hist_percentile(cur->hist, prev->hist, 0.50, v->min, v->max);
+	v->p99 = hist_percentile(cur->hist, prev->hist, 0.99, v->min, v->max);
+	v->p999 = hist_percentile(cur->hist, prev->hist, 0.999, v->min, v->max);
+}
+
+/* span_counters - counters of cur minus prev (prev may be NULL) */
+static void span_counters(const struct rtsup_thread *c, const struct rtsup_thread *p,
+			  struct span_view *s)
+{
+	static const struct rtsup_thread zero;
+	int i;
+
+	if (!p)
+		p = &zero;
+	s->cycles = c->cycles - p->cycles;
+	s->misses = c->misses - p->misses;
+	s->overruns = c->overruns - p->overruns;
+	s->vol_cs = c->vol_cs - p->vol_cs;
+	s->invol_cs = c->invol_cs - p->invol_cs;
+	s->migrations = c->migrations - p->migrations;
+	s->syscalls = c->syscalls - p->syscalls;
+	s->signals = c->signals - p->signals;
+	s->minflt = c->minflt - p->minflt;
+	s->majflt = c->majflt - p->majflt;
+	s->unsafe_total = 0;
+	for (i = 0; i < RTSUP_U_NR; i++) {
+		s->unsafe[i] = c->unsafe[i] - p->unsafe[i];
+		s->unsafe_total += s->unsafe[i];
+	}
+}
+
+void span_life(const struct rtsup_thread *t, struct span_view *s)
+{
+	int i;
+
+	span_counters(t, NULL, s);
+	for (i = 0; i < RTSUP_M_NR; i++)
+		metric_view_life(&t->m[i], &s->m[i]);
+}
+
+void span_window(const struct rtsup_thread *cur, const struct rtsup_thread *prev,
+		 __u32 bank, struct span_view *s)
+{
+	int i;
+
+	/* stats restarted (first delimiter): the window starts from zero */
+	if (prev && cur->cycles < prev->cycles)
+		prev = NULL;
+	span_counters(cur, prev, s);
+	for (i = 0; i < RTSUP_M_NR; i++)
+		metric_view_window(&cur->m[i], prev ? &prev->m[i] : NULL, bank, &s->m[i]);
+}
+
+/* find - binary search in the tid-sorted array */
+static int find(const struct model *m, __u32 tid, int *pos)
+{
+	int lo = 0, hi = m->n;
+
+	while (lo < hi) {
+		int mid = (lo + hi) / 2;
+
+		if (m->t[mid].tid == tid) {
+			*pos = mid;
+			return 1;
+		}
+		if (m->t[mid].tid < tid)
+			lo = mid + 1;
+		else
+			hi = mid;
+	}
+	*pos = lo;
+	return 0;
+}
+
+struct thread_model *model_get(struct model *m, __u32 tid, bool create)
+{
+	int pos;
+
+	if (find(m, tid, &pos))
+		return &m->t[pos];
+	if (!create)
+		return NULL;
+	if (m->n == m->cap) {
+		int cap = m->cap ? m->cap * 2 : 64;
+		struct thread_model *t = realloc(m->t, cap * sizeof(*t));
+
+		if (!t)
+			return NULL;
+		m->t = t;
+		m->cap = cap;
+	}
+	memmove(&m->t[pos + 1], &m->t[pos], (m->n - pos) * sizeof(*m->t));
+	m->n++;
+	memset(&m->t[pos], 0, sizeof(m->t[pos]));
+	m->t[pos].tid = tid;
+	m->t[pos].policy = -1;
+	return &m->t[pos];
+}
+
+void model_remove(struct model *m, __u32 tid)
+{
+	int pos;
+
+	if (!find(m, tid, &pos))
+		return;
+	memmove(&m->t[pos], &m->t[pos + 1], (m->n - pos - 1) * sizeof(*m->t));
+	m->n--;
+}
+
+void model_sys_set(struct thread_model *tm, int nr, __u64 total)
+{
+	int i;
+
+	for (i = 0; i < tm->nsys; i++) {
+		if (tm->sys[i].nr == nr) {
+			tm->sys[i].total = total;
+			return;
+		}
+	}
+	if (tm->nsys == MODEL_MAX_SYS)
+		return;
+	tm->sys[tm->nsys].nr = nr;
+	tm->sys[tm->nsys].total = total;
+	tm->sys[tm->nsys].prev = 0;
+	tm->nsys++;
+}
+
+void model_free(struct model *m)
+{
+	free(m->t);
+	memset(m, 0, sizeof(*m));
+}
+
+const char *unsafe_reason_name(int reason)
+{
+	static const char *const names[RTSUP_U_NR] = {
+		[RTSUP_U_SYSCALL] = "syscall",
+		[RTSUP_U_MINFLT] = "minor_fault",
+		[RTSUP_U_MAJFLT] = "major_fault",
+		[RTSUP_U_BLOCK] = "block",
+		[RTSUP_U_MIGRATE] = "migration",
+	};
+
+	return reason >= 0 && reason < RTSUP_U_NR ? names[reason] : "unknown";
+}
+
+const char *metric_name(int metric)
+{
+	static const char *const names[RTSUP_M_NR] = {
+		[RTSUP_M_PERIOD] = "period_ns",
+		[RTSUP_M_EXEC] = "exec_ns",
+		[RTSUP_M_CPU] = "cpu_ns",
+		[RTSUP_M_LATENCY] = "latency_ns",
+	};
+
+	return metric >= 0 && metric < RTSUP_M_NR ? names[metric] : "unknown";
+}
+
+const char *policy_name(int policy)
+{
+	switch (policy) {
+	case 0: return "SCHED_OTHER";
+	case 1: return "SCHED_FIFO";
+	case 2: return "SCHED_RR";
+	case 3: return "SCHED_BATCH";
+	case 5: return "SCHED_IDLE";
+	case 6: return "SCHED_DEADLINE";
+	case 7: return "SCHED_EXT";
+	default: return "-";
+	}
+}

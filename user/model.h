@@ -1,0 +1,108 @@
+/* SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause */
+/*
+ * model.h - what userspace knows about each thread: the last two snapshots
+ * of its kernel entry and the numbers derived from them, per interval and
+ * over its lifetime. Plain C, no kernel, so the unit tests cover it.
+ */
+#ifndef RTSUP_MODEL_H
+#define RTSUP_MODEL_H
+
+#include <stdbool.h>
+#include <linux/types.h>
+#include "rtsup.h"
+
+/* One metric, in ns, over a window or a lifetime. */
+struct metric_view {
+	__u64 count;
+	__u64 min;
+	__u64 max;
+	double mean;
+	double ewma;
+	__u64 p50;
+	__u64 p99;
+	__u64 p999;
+};
+
+/* Counters and metrics over one span (an interval or the lifetime). */
+struct span_view {
+	__u64 cycles;
+	__u64 misses;
+	__u64 overruns;
+	__u64 vol_cs;
+	__u64 invol_cs;
+	__u64 migrations;
+	__u64 syscalls;
+	__u64 signals;
+	__u64 minflt;
+	__u64 majflt;
+	__u64 unsafe[RTSUP_U_NR];
+	__u64 unsafe_total;
+	struct metric_view m[RTSUP_M_NR];
+};
+
+/* Unsafe syscalls of one thread, by number. */
+struct sys_count {
+	int nr;
+	__u64 total;
+	__u64 prev;	/* total at the end of the previous interval */
+};
+
+#define MODEL_MAX_SYS 32
+
+struct thread_model {
+	__u32 tid;
+	__u32 tgid;
+	char comm[RTSUP_COMM_LEN];
+	int policy;		/* -1 when the thread is gone */
+	int prio;
+	char cpus[64];		/* allowed CPUs as a list, e.g. "0-3" */
+	bool alive;
+	bool reported_exit;
+	struct rtsup_thread cur;
+	struct rtsup_thread prev;	/* snapshot one interval ago */
+	bool have_prev;
+	int nsys;
+	struct sys_count sys[MODEL_MAX_SYS];
+};
+
+struct model {
+	struct thread_model *t;
+	int n;
+	int cap;
+};
+
+/* hist_percentile - q-quantile (0 < q <= 1) of cur - prev (prev may be NULL) */
+__u64 hist_percentile(const __u32 *cur, const __u32 *prev, double q, __u64 min,
+		      __u64 max);
+
+/* metric_view_life - a metric over the thread's lifetime */
+void metric_view_life(const struct rtsup_metric_stats *s, struct metric_view *v);
+/*
+ * metric_view_window - a metric over the last interval: the difference of
+ * two snapshots; min/max come from the interval bank 'bank'.
+ */
+void metric_view_window(const struct rtsup_metric_stats *cur,
+			const struct rtsup_metric_stats *prev, __u32 bank,
+			struct metric_view *v);
+
+/* span_life / span_window - counters and metrics of a thread */
+void span_life(const struct rtsup_thread *t, struct span_view *s);
+void span_window(const struct rtsup_thread *cur, const struct rtsup_thread *prev,
+		 __u32 bank, struct span_view *s);
+
+/* model_get - the thread's model, created (zeroed) when 'create' */
+struct thread_model *model_get(struct model *m, __u32 tid, bool create);
+/* model_remove - forget a thread */
+void model_remove(struct model *m, __u32 tid);
+/* model_sys_add - set the lifetime count of one unsafe syscall */
+void model_sys_set(struct thread_model *tm, int nr, __u64 total);
+void model_free(struct model *m);
+
+/* unsafe_reason_name - JSON/table name of an unsafe reason */
+const char *unsafe_reason_name(int reason);
+/* metric_name - JSON name of a metric */
+const char *metric_name(int metric);
+/* policy_name - "SCHED_FIFO"... */
+const char *policy_name(int policy);
+
+#endif

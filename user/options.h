@@ -1,0 +1,32 @@
+/* SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause */
+/* options.h - rtsup-trace settings, filled from the command line */
+#ifndef RTSUP_OPTIONS_H
+#define RTSUP_OPTIONS_H
+
+#include <stdbool.h>
+#include <linux/types.h>
+#include "targets.h"
+#include "syscalls.h"
+
+struct options {
+	struct targets targets;
+	double interval;	/* s */
+	double duration;	/* s, 0 = until a signal */
+	bool json;
+	bool verbose;
+	bool raw_tp;		/* force the raw tracepoint programs */
+	const char *delims[SYSCALLS_MAX_DELIMS];
+	int ndelims;
+	__u32 ewma_w;		/* per RTSUP_EWMA_ONE */
+	__u64 period_ns;	/* nominal period when none is derived */
+	__u32 max_threads;
+	int color;		/* -1 auto, 0 never, 1 always */
+};
+
+/* options_parse - parse argv; prints a one-line error and returns -1 on error */
+int options_parse(int argc, char **argv, struct options *o);
+
+/* parse_duration - "30s", "5m", "1h", "250ms" or plain seconds; -1 on error */
+double parse_duration(const char *s);
+
+#endif

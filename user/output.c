@@ -1,0 +1,383 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/* output.c - table and JSON sinks */
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+#include <jansson.h>
+#include "output.h"
+#include "syscalls.h"
+
+#define MAX_EVENT_LINES 10
+
+static const char *const event_names[] = {
+	[RTSUP_EV_MISS] = "deadline_miss",
+	[RTSUP_EV_UNSAFE] = "unsafe",
+	[RTSUP_EV_EXIT] = "exit",
+	[RTSUP_EV_NEW] = "new_thread",
+	[RTSUP_EV_SIGNAL] = "signal",
+};
+
+/* use_color - colour only on a terminal, unless told */
+static bool use_color(const struct options *o)
+{
+	return o->color < 0 ? isatty(STDOUT_FILENO) : o->color;
+}
+
+/* fmt_time - wall-clock time of a monotonic timestamp, ISO 8601 UTC */
+static void fmt_time(const struct collector *c, __u64 mono, char *buf, size_t len)
+{
+	__s64 real = (__s64)mono + c->real_off;
+	time_t s = real / 1000000000LL;
+	struct tm tm;
+
+	gmtime_r(&s, &tm);
+	strftime(buf, len, "%Y-%m-%dT%H:%M:%S", &tm);
+	snprintf(buf + strlen(buf), len - strlen(buf), ".%03lldZ",
+		 (long long)(real % 1000000000LL) / 1000000);
+}
+
+/* ---- JSON ---- */
+
+/* json_metric - one metric view */
+static json_t *json_metric(const struct metric_view *v)
+{
+	if (!v->count)
+		return json_pack("{s:I}", "count", (json_int_t)0);
+	return json_pack("{s:I,s:I,s:I,s:f,s:f,s:I,s:I,s:I}", "count", (json_int_t)v->count,
+			 "min", (json_int_t)v->min, "max", (json_int_t)v->max, "mean", v->mean,
+			 "ewma", v->ewma, "p50", (json_int_t)v->p50, "p99", (json_int_t)v->p99,
+			 "p999", (json_int_t)v->p999);
+}
+
+/* json_span - counters and metrics over one span */
+static json_t *json_span(const struct span_view *s, const struct thread_model *tm,
+			 bool window)
+{
+	json_t *o = json_object(), *u = json_object(), *sys = json_object();
+	int i;
+
+	json_object_set_new(o, "cycles", json_integer(s->cycles));
+	json_object_set_new(o, "deadline_misses", json_integer(s->misses));
+	json_object_set_new(o, "overruns", json_integer(s->overruns));
+	for (i = 0; i < RTSUP_M_NR; i++)
+		json_object_set_new(o, metric_name(i), json_metric(&s->m[i]));
+	for (i = 0; i < RTSUP_U_NR; i++)
+		json_object_set_new(u, unsafe_reason_name(i), json_integer(s->unsafe[i]));
+	json_object_set_new(u, "total", json_integer(s->unsafe_total));
+	json_object_set_new(o, "unsafe", u);
+	for (i = 0; i < tm->nsys; i++) {
+		const char *name = syscall_name(tm->sys[i].nr);
+		__u64 n = tm->sys[i].total - (window ? tm->sys[i].prev : 0);
+		char buf[16];
+
+		if (!name) {
+			snprintf(buf, sizeof(buf), "sys_%d", tm->sys[i].nr);
+			name = buf;
+		}
+		if (n)
+			json_object_set_new(sys, name, json_integer(n));
+	}
+	json_object_set_new(o, "unsafe_syscalls", sys);
+	json_object_set_new(o, "context_switches",
+			    json_pack("{s:I,s:I}", "voluntary", (json_int_t)s->vol_cs,
+				      "involuntary", (json_int_t)s->invol_cs));
+	json_object_set_new(o, "page_faults",
+			    json_pack("{s:I,s:I}", "minor", (json_int_t)s->minflt,
+				      "major", (json_int_t)s->majflt));
+	json_object_set_new(o, "migrations", json_integer(s->migrations));
+	json_object_set_new(o, "syscalls", json_integer(s->syscalls));
+	json_object_set_new(o, "signals", json_integer(s->signals));
+	return o;
+}
+
+/* json_thread - identity of a thread plus the requested spans */
+static json_t *json_thread(const struct collector *c, const struct thread_model *tm,
+			   bool window)
+{
+	static const char *const modes[] = { "none", "activation", "delimiter" };
+	struct span_view s;
+	json_t *o;
+
+	o = json_pack("{s:i,s:i,s:s,s:s,s:i,s:s,s:b,s:s}", "tid", tm->tid, "tgid", tm->tgid,
+		      "comm", tm->comm, "policy", policy_name(tm->policy), "prio", tm->prio,
+		      "cpus", tm->cpus[0] ? tm->cpus : "-", "alive", tm->alive, "mode",
+		      modes[tm->cur.cs.mode < 3 ? tm->cur.cs.mode : 0]);
+	if (tm->cur.exited)
+		json_object_set_new(o, "exit_mid_cycle", json_boolean(tm->cur.exit_mid_cycle));
+	if (window) {
+		span_window(&tm->cur, tm->have_prev ? &tm->prev : NULL, c->bank, &s);
+		json_object_set_new(o, "interval", json_span(&s, tm, true));
+	}
+	span_life(&tm->cur, &s);
+	json_object_set_new(o, "total", json_span(&s, tm, false));
+	return o;
+}
+
+/* json_event - one rare event */
+static json_t *json_event(const struct collector *c, const struct rtsup_event *e)
+{
+	char when[40];
+	json_t *o;
+
+	fmt_time(c, e->ts, when, sizeof(when));
+	o = json_pack("{s:s,s:s,s:i,s:i,s:s,s:i}", "time", when, "event",
+		      e->type < sizeof(event_names) / sizeof(event_names[0]) &&
+		      event_names[e->type] ? event_names[e->type] : "unknown",
+		      "tid", e->tid, "tgid", e->tgid, "comm", e->comm, "cpu", e->cpu);
+	switch (e->type) {
+	case RTSUP_EV_MISS:
+		json_object_set_new(o, "late_ns", json_integer(e->arg));
+		break;
+	case RTSUP_EV_UNSAFE:
+		json_object_set_new(o, "reason", json_string(unsafe_reason_name(e->arg)));
+		if (e->arg == RTSUP_U_SYSCALL && syscall_name(e->arg2))
+			json_object_set_new(o, "syscall", json_string(syscall_name(e->arg2)));
+		else if (e->arg == RTSUP_U_MINFLT || e->arg == RTSUP_U_MAJFLT)
+			json_object_set_new(o, "count", json_integer(e->arg2));
+		break;
+	case RTSUP_EV_EXIT:
+		json_object_set_new(o, "mid_cycle", json_boolean(e->arg));
+		break;
+	case RTSUP_EV_SIGNAL:
+		json_object_set_new(o, "signal", json_integer(e->arg));
+		break;
+	}
+	return o;
+}
+
+/* json_common - the fields every report carries */
+static json_t *json_common(const struct collector *c, const char *type, double elapsed)
+{
+	char when[40];
+
+	fmt_time(c, mono_now(), when, sizeof(when));
+	return json_pack("{s:s,s:s,s:f,s:I,s:I,s:I}", "type", type, "time", when,
+			 "elapsed_s", elapsed,
+			 "lost_events", (json_int_t)c->counters[RTSUP_C_RB_DROPS],
+			 "untracked_threads", (json_int_t)c->counters[RTSUP_C_MAP_FULL],
+			 "untracked_syscall_counts", (json_int_t)c->counters[RTSUP_C_SYS_FULL]);
+}
+
+/* json_print - one object, one line, flushed */
+static void json_print(json_t *o)
+{
+	json_dumpf(o, stdout, JSON_COMPACT);
+	fputc('\n', stdout);
+	fflush(stdout);
+	json_decref(o);
+}
+
+static void json_interval(const struct collector *c, double elapsed, double interval)
+{
+	json_t *o = json_common(c, "interval", elapsed), *th = json_array(),
+	       *ev = json_array();
+	int i;
+
+	json_object_set_new(o, "interval_s", json_real(interval));
+	for (i = 0; i < c->model.n; i++)
+		if (!c->model.t[i].reported_exit)
+			json_array_append_new(th, json_thread(c, &c->model.t[i], true));
+	for (i = 0; i < c->nevents; i++)
+		json_array_append_new(ev, json_event(c, &c->events[i]));
+	json_object_set_new(o, "threads", th);
+	json_object_set_new(o, "events", ev);
+	json_object_set_new(o, "events_not_shown", json_integer(c->events_over));
+	json_print(o);
+}
+
+static void json_summary(const struct collector *c, double elapsed)
+{
+	json_t *o = json_common(c, "summary", elapsed), *th = json_array();
+	int i;
+
+	json_object_set_new(o, "events_total", json_integer(c->events_total));
+	for (i = 0; i < c->model.n; i++)
+		json_array_append_new(th, json_thread(c, &c->model.t[i], false));
+	json_object_set_new(o, "threads", th);
+	json_print(o);
+}
+
+/* ---- table ---- */
+
+/* us - a time cell in microseconds, '-' when empty */
+static void us(char *buf, size_t len, __u64 count, double ns)
+{
+	if (!count)
+		snprintf(buf, len, "-");
+	else
+		snprintf(buf, len, "%.1f", ns / 1000.0);
+}
+
+static void table_header(const char *title)
+{
+	printf("%s\n", title);
+	printf("%7s %-15s %-9s %7s %17s %26s %26s %5s %6s %13s\n", "", "", "", "",
+	       "PERIOD (us)", "EXEC (us)", "LATENCY (us)", "", "", "");
+	printf("%7s %-15s %-9s %7s %8s %8s %8s %8s %8s %8s %8s %8s %5s %6s %13s\n", "TID",
+	       "COMM", "POL/PRI", "CYCLES", "avg", "max", "avg", "p99", "max", "avg", "p99",
+	       "max", "MISS", "UNSAFE", "CSW vol/inv");
+}
+
+static void table_row(const struct thread_model *tm, const struct span_view *s, bool color)
+{
+	char pol[16], c[9][16], csw[32];
+	const struct metric_view *p = &s->m[RTSUP_M_PERIOD], *e = &s->m[RTSUP_M_EXEC],
+				 *l = &s->m[RTSUP_M_LATENCY];
+	const char *on = "", *off = "";
+
+	if (tm->policy >= 0)
+		snprintf(pol, sizeof(pol), "%.5s/%d",
+			 policy_name(tm->policy) + (tm->policy <= 7 ? 6 : 0), tm->prio);
+	else
+		snprintf(pol, sizeof(pol), "exited");
+	us(c[0], 16, p->count, p->mean);
+	us(c[1], 16, p->count, p->max);
+	us(c[2], 16, e->count, e->mean);
+	us(c[3], 16, e->count, e->p99);
+	us(c[4], 16, e->count, e->max);
+	us(c[5], 16, l->count, l->mean);
+	us(c[6], 16, l->count, l->p99);
+	us(c[7], 16, l->count, l->max);
+	snprintf(csw, sizeof(csw), "%llu/%llu", (unsigned long long)s->vol_cs,
+		 (unsigned long long)s->invol_cs);
+	if (color && s->misses) {
+		on = "\033[31m";
+		off = "\033[0m";
+	} else if (color && s->unsafe_total) {
+		on = "\033[33m";
+		off = "\033[0m";
+	}
+	printf("%s%7u %-15.15s %-9s %7llu %8s %8s %8s %8s %8s %8s %8s %8s %5llu %6llu %13s%s\n",
+	       on, tm->tid, tm->comm, pol, (unsigned long long)s->cycles, c[0], c[1], c[2],
+	       c[3], c[4], c[5], c[6], c[7], (unsigned long long)s->misses,
+	       (unsigned long long)s->unsafe_total, csw, off);
+}
+
+/* table_event - one line per rare event */
+static void table_event(const struct collector *c, const struct rtsup_event *e)
+{
+	char when[40], what[96];
+	const char *sys;
+
+	fmt_time(c, e->ts, when, sizeof(when));
+	switch (e->type) {
+	case RTSUP_EV_MISS:
+		snprintf(what, sizeof(what), "deadline miss, %.1f us late", e->arg / 1000.0);
+		break;
+	case RTSUP_EV_UNSAFE:
+		sys = e->arg == RTSUP_U_SYSCALL ? syscall_name(e->arg2) : NULL;
+		snprintf(what, sizeof(what), "RT-unsafe: %s%s%s", unsafe_reason_name(e->arg),
+			 sys ? " " : "", sys ? sys : "");
+		break;
+	case RTSUP_EV_EXIT:
+		snprintf(what, sizeof(what), "exited%s", e->arg ? " mid-cycle" : "");
+		break;
+	case RTSUP_EV_NEW:
+		snprintf(what, sizeof(what), "new target thread");
+		break;
+	case RTSUP_EV_SIGNAL:
+		snprintf(what, sizeof(what), "signal %llu", (unsigned long long)e->arg);
+		break;
+	default:
+		snprintf(what, sizeof(what), "event %u", e->type);
+	}
+	printf("  %s %7u %-15.15s %s\n", when + 11, e->tid, e->comm, what);
+}
+
+static void table_interval(const struct collector *c, double elapsed, double interval)
+{
+	bool color = use_color(c->o);
+	struct span_view s;
+	char title[160];
+	int i, shown = 0, live = 0;
+
+	for (i = 0; i < c->model.n; i++)
+		live += c->model.t[i].alive;
+	snprintf(title, sizeof(title),
+		 "rtsup-trace  %.0f s  interval %.2f s  threads %d  lost events %llu%s",
+		 elapsed, interval, live, (unsigned long long)c->counters[RTSUP_C_RB_DROPS],
+		 c->counters[RTSUP_C_MAP_FULL] ? "  (thread map full!)" : "");
+	table_header(title);
+	for (i = 0; i < c->model.n; i++) {
+		const struct thread_model *tm = &c->model.t[i];
+
+		if (tm->reported_exit)
+			continue;
+		span_window(&tm->cur, tm->have_prev ? &tm->prev : NULL, c->bank, &s);
+		table_row(tm, &s, color);
+	}
+	for (i = 0; i < c->nevents && shown < MAX_EVENT_LINES; i++) {
+		/* new-thread notices are noise in a live table */
+		if (c->events[i].type == RTSUP_EV_NEW)
+			continue;
+		table_event(c, &c->events[i]);
+		shown++;
+	}
+	if (c->nevents - shown > 0 || c->events_over)
+		printf("  ... %llu more events\n",
+		       (unsigned long long)(c->nevents - shown + c->events_over));
+	printf("\n");
+	fflush(stdout);
+}
+
+static void table_summary(const struct collector *c, double elapsed)
+{
+	struct span_view s;
+	char title[200];
+	int i, j;
+
+	snprintf(title, sizeof(title),
+		 "rtsup-trace summary over %.1f s: %d threads, %llu rare events, %llu lost, "
+		 "%llu threads not tracked (map full)",
+		 elapsed, c->model.n, (unsigned long long)c->events_total,
+		 (unsigned long long)c->counters[RTSUP_C_RB_DROPS],
+		 (unsigned long long)c->counters[RTSUP_C_MAP_FULL]);
+	table_header(title);
+	for (i = 0; i < c->model.n; i++) {
+		span_life(&c->model.t[i].cur, &s);
+		table_row(&c->model.t[i], &s, use_color(c->o));
+	}
+	/* why each thread lost RT safety, by reason and by syscall */
+	for (i = 0; i < c->model.n; i++) {
+		const struct thread_model *tm = &c->model.t[i];
+
+		span_life(&tm->cur, &s);
+		if (!s.unsafe_total && !s.misses)
+			continue;
+		printf("  %u %s: %llu deadline misses, %llu overruns; unsafe:", tm->tid, tm->comm,
+		       (unsigned long long)s.misses, (unsigned long long)s.overruns);
+		for (j = 0; j < RTSUP_U_NR; j++)
+			if (s.unsafe[j])
+				printf(" %s %llu", unsafe_reason_name(j),
+				       (unsigned long long)s.unsafe[j]);
+		for (j = 0; j < tm->nsys; j++)
+			printf(" %s=%llu", syscall_name(tm->sys[j].nr) ?: "?",
+			       (unsigned long long)tm->sys[j].total);
+		printf("\n");
+	}
+	fflush(stdout);
+}
+
+void output_interval(const struct collector *c, double elapsed, double interval)
+{
+	if (c->o->json)
+		json_interval(c, elapsed, interval);
+	else
+		table_interval(c, elapsed, interval);
+}
+
+void output_summary(const struct collector *c, double elapsed)
+{
+	if (c->o->json)
+		json_summary(c, elapsed);
+	else
+		table_summary(c, elapsed);
+}
+
+void output_error(const struct options *o, const char *msg)
+{
+	fprintf(stderr, "rtsup-trace: %s\n", msg);
+	if (o && o->json)
+		json_print(json_pack("{s:s}", "error", msg));
+}

@@ -1,0 +1,43 @@
+/* SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause */
+/* targets.h - which threads to supervise: what the user asked for */
+#ifndef RTSUP_TARGETS_H
+#define RTSUP_TARGETS_H
+
+#include <stdbool.h>
+#include <sys/types.h>
+#include "rtsup.h"
+
+#define TARGETS_MAX 64
+
+struct targets {
+	pid_t pids[TARGETS_MAX];	/* -p: processes, all their threads */
+	int npids;
+	pid_t tids[TARGETS_MAX];	/* -t: single threads */
+	int ntids;
+	char comms[RTSUP_MAX_COMMS][RTSUP_COMM_LEN];	/* -c */
+	int ncomms;
+	bool rt;			/* --rt */
+	const char *cgroup;		/* --cgroup, a cgroup v2 directory */
+};
+
+/* Called for every thread found that matches; tgid-wide when 'process'. */
+typedef int (*target_cb)(void *ctx, pid_t tgid, pid_t tid, const char *comm,
+			 bool process);
+
+/* targets_any - did the user name any target? */
+bool targets_any(const struct targets *t);
+/*
+ * targets_scan - walk /proc (and the cgroup) once and call cb for each
+ * matching thread; returns 0 or a negative errno from the callback.
+ */
+int targets_scan(const struct targets *t, target_cb cb, void *ctx);
+/* thread_comm - read /proc/<tgid>/task/<tid>/comm, 0 on success */
+int thread_comm(pid_t tgid, pid_t tid, char *buf, size_t len);
+/* process_exists - is there a process with this pid? */
+bool process_exists(pid_t pid);
+/* comm_matches - is this name one of the --comm targets? */
+bool comm_matches(const struct targets *t, const char *comm);
+/* cpu_list - format a thread's allowed CPUs as "0-3,6" */
+void cpu_list(pid_t tid, char *buf, size_t len);
+
+#endif
