@@ -57,6 +57,7 @@ RTSUP_SUBPROG void cycle_reset_stats(struct rtsup_thread *t)
 	__u32 i;
 
 	RTSUP_ZERO(t->m, sizeof(t->m));
+	t->resets++;
 	t->epoch = ~0U;
 	t->cycles = 0;
 	t->misses = 0;
@@ -187,6 +188,9 @@ RTSUP_INLINE __u32 cycle_delim_enter(struct rtsup_thread *t, const struct cycle_
 	cs->in_ts = 0;
 	cs->wake_ts = 0;
 	cs->expected = expected;
+	/* CPU time and preemptions after the release, before the syscall returns */
+	cs->cpu_acc = 0;
+	cs->preempt = 0;
 	return ev;
 }
 
@@ -207,6 +211,17 @@ RTSUP_INLINE void cycle_delim_exit(struct rtsup_thread *t, __u64 now,
 		cs->last_expected = cs->wake_ts;
 	else
 		cs->last_expected = 0;
+	if (cs->in_ts) {
+		/* released at a switch-in: keep what ran since, not what waited */
+		__u64 cpu = cs->cpu_acc, since = cs->run_since;
+		__u32 preempt = cs->preempt;
+
+		cycle_begin(cs, start, minflt, majflt);
+		cs->cpu_acc = cpu;
+		cs->preempt = preempt;
+		cs->run_since = since;
+		return;
+	}
 	cycle_begin(cs, start, minflt, majflt);
 }
 
@@ -263,8 +278,17 @@ RTSUP_INLINE __u32 cycle_switch_out(struct rtsup_thread *t, const struct cycle_c
 	else
 		t->invol_cs++;
 	if (cs->in_delim) {
-		if (voluntary)
-			cs->in_ts = 0;	/* it sleeps: the release comes later */
+		if (voluntary) {
+			/* it sleeps: the release comes later */
+			cs->in_ts = 0;
+			cs->cpu_acc = 0;
+			cs->preempt = 0;
+		} else if (cs->in_ts) {
+			/* preempted after its release, before the syscall returned */
+			cs->preempt++;
+			if (cs->run_since && now > cs->run_since)
+				cs->cpu_acc += now - cs->run_since;
+		}
 		cs->run_since = 0;
 		return 0;
 	}

@@ -153,7 +153,7 @@ struct rtsup_thread {
 	__u32 exit_mid_cycle;
 	__u32 last_signal;
 	__u32 epoch;		/* interval whose bank the stats write to */
-	__u32 pad;
+	__u32 resets;		/* times the stats restarted (first delimiter) */
 	struct rtsup_metric_stats m[RTSUP_M_NR];
 };
 

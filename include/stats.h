@@ -36,11 +36,8 @@ RTSUP_INLINE void minmax_reset(struct rtsup_minmax *mm)
 /* metric_init - empty statistics */
 RTSUP_INLINE void metric_init(struct rtsup_metric_stats *s)
 {
-	s->count = 0;
-	s->sum = 0;
+	__builtin_memset(s, 0, sizeof(*s));	/* host only: BPF copies a zero entry */
 	s->min = ~0ULL;
-	s->max = 0;
-	s->ewma = 0;
 	minmax_reset(&s->win[0]);
 	minmax_reset(&s->win[1]);
 }

@@ -117,7 +117,7 @@ void span_window(const struct rtsup_thread *cur, const struct rtsup_thread *prev
 	int i;
 
 	/* stats restarted (first delimiter): the window starts from zero */
-	if (prev && cur->cycles < prev->cycles)
+	if (prev && cur->resets != prev->resets)
 		prev = NULL;
 	span_counters(cur, prev, s);
 	for (i = 0; i < RTSUP_M_NR; i++)

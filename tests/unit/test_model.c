@@ -330,7 +330,7 @@ static void test_model_span_window(void **state)
 	assert_int_equal(s.m[RTSUP_M_EXEC].min, 100 * US);
 }
 
-/* stats restarted (cur.cycles < prev.cycles): the window starts from zero */
+/* stats restarted (the reset generation changed): the window starts from zero */
 static void test_model_span_window_restart(void **state)
 {
 	struct tfx *t = *state;
@@ -340,6 +340,7 @@ static void test_model_span_window_restart(void **state)
 	t->prev.unsafe[RTSUP_U_SYSCALL] = 7;
 	t->prev.syscalls = 9;
 	add_cycles(&t->cur, 10, 500 * US, 1);
+	t->cur.resets = t->prev.resets + 1;
 	t->cur.unsafe[RTSUP_U_SYSCALL] = 1;
 	t->cur.syscalls = 1;
 
@@ -367,6 +368,7 @@ static void test_model_span_window_restart_more_cycles(void **state)
 	t->prev.unsafe[RTSUP_U_SYSCALL] = 15;
 	t->prev.syscalls = 15;
 	add_cycles(&t->cur, 1000, 500 * US, 1);	/* after the reset */
+	t->cur.resets = t->prev.resets + 1;
 
 	span_window(&t->cur, &t->prev, 1, &s);
 	assert_int_equal(s.cycles, 1000);
