@@ -31,6 +31,8 @@ UNIT_BINS := $(patsubst tests/unit/%.c,$(OUT)/tests/%,$(UNIT_SRCS))
 
 .PHONY: all clean test unit integration deps demo bench format-check install
 .DELETE_ON_ERROR:
+# keep the BPF objects: the skeleton and the benchmark use them
+.SECONDARY:
 
 all: $(OUT)/rtsup-trace $(OUT)/rtsup-loadgen
 

@@ -231,3 +231,54 @@ def test_pid_that_exits_keeps_running(tmp_path):
     assert tr.proc.poll() is None  # still running after its target is gone
     intervals, summary, _ = tr.stop(sig=__import__("signal").SIGTERM)
     assert all(not t["alive"] for t in summary["threads"])
+
+
+def test_rt_selects_rt_threads_only(tmp_path):
+    (tmp_path / "other").mkdir()
+    tr = Trace(["--rt"])
+    rt = Loadgen(tmp_path, ["--name", "rtyes", "-c", "800"])
+    other = Loadgen(tmp_path / "other", ["--name", "rtno", "-r", "0", "-c", "800"])
+    try:
+        truth, other_truth = rt.summary(), other.summary()
+        time.sleep(0.2)
+        _, summary, _ = tr.stop()
+    finally:
+        rt.stop()
+        other.stop()
+    got = threads_by_tid(summary)
+    for t in truth["threads"]:
+        assert got[t["tid"]]["policy"] == "SCHED_FIFO"
+        assert got[t["tid"]]["total"]["cycles"] == pytest.approx(t["cycles"], rel=0.01)
+    assert not set(got) & {t["tid"] for t in other_truth["threads"]}
+    assert other_truth["pid"] not in got
+
+
+def cgroup2_root():
+    with open("/proc/mounts") as f:
+        for line in f:
+            dev, mnt, fstype = line.split()[:3]
+            if fstype == "cgroup2":
+                return mnt
+    return None
+
+
+@pytest.mark.skipif(cgroup2_root() is None, reason="no cgroup v2 hierarchy mounted")
+def test_cgroup_target(tmp_path):
+    cg = os.path.join(cgroup2_root(), "rtsup-test-%d" % os.getpid())
+    os.mkdir(cg)
+    lg = Loadgen(tmp_path, ["--start-delay", "1500", "-c", "800"])
+    try:
+        with open(os.path.join(cg, "cgroup.procs"), "w") as f:
+            f.write(str(lg.pid))
+        tr = Trace(["--cgroup", cg])
+        truth = lg.summary()
+        time.sleep(0.2)
+        _, summary, _ = tr.stop()
+    finally:
+        lg.stop()
+        os.rmdir(cg)
+    got = threads_by_tid(summary)
+    # the main thread was in the cgroup at start, the workers were forked there
+    assert truth["pid"] in got
+    for t in truth["threads"]:
+        assert got[t["tid"]]["total"]["cycles"] == pytest.approx(t["cycles"], rel=0.01)
