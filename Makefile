@@ -13,7 +13,7 @@ PREFIX   ?= /usr/local
 CFLAGS   ?= -O2 -g
 WARN     := -Wall -Wextra -Wno-unused-parameter
 INCLUDES := -Iinclude -I$(OUT)
-USER_LIBS := -lbpf -lelf -lz -ljansson
+USER_LIBS := -lbpf -lelf -lz -ljansson -lyaml
 CPPFLAGS += -D_GNU_SOURCE -MMD -MP
 
 ifeq ($(V),1)
@@ -85,10 +85,16 @@ $(OUT)/rtsup-loadgen: scripts/loadgen/loadgen.c | $(OUT)
 # Unit tests: plain C from include/ and user/, no kernel, no root.
 UNIT_DEPS_test_model  := user/model.c
 UNIT_DEPS_test_syscalls := user/syscalls.c
+UNIT_DEPS_test_config := user/config.c user/syscalls.c
+UNIT_LIBS_test_config := -lyaml
+UNIT_DEPS_test_record := user/record.c
+UNIT_LIBS_test_record := -lz -ljansson
+UNIT_DEPS_test_perfetto := user/perfetto.c
+UNIT_LIBS_test_perfetto := -ljansson
 .SECONDEXPANSION:
 $(OUT)/tests/%: tests/unit/%.c $$(UNIT_DEPS_$$*) $(OUT)/syscall_table.h | $(OUT)/tests
 	$(call msg,CC,$@)
-	$(Q)$(CC) $(CFLAGS) $(WARN) $(CPPFLAGS) $(INCLUDES) -Iuser $< $(UNIT_DEPS_$*) -lcmocka -lm -o $@
+	$(Q)$(CC) $(CFLAGS) $(WARN) $(CPPFLAGS) $(INCLUDES) -Iuser $< $(UNIT_DEPS_$*) -lcmocka -lm $(UNIT_LIBS_$*) -o $@
 
 # every binary runs even when one fails; make fails at the end
 unit: $(UNIT_BINS)

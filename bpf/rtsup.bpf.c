@@ -37,6 +37,8 @@ const volatile __u64 cfg_period;	/* nominal period fallback, ns */
 const volatile __u32 cfg_rt;		/* --rt: every RT thread */
 const volatile __u32 cfg_cgroup;	/* --cgroup: match map cgroup */
 const volatile __u32 cfg_ncomm;
+const volatile __u32 cfg_record;	/* send every finished cycle (--record) */
+const volatile __u32 cfg_follow;	/* -- CMD: child processes are targets too */
 const volatile char cfg_comms[RTSUP_MAX_COMMS][RTSUP_COMM_LEN];
 
 /* Written by userspace while running. */
@@ -63,6 +65,13 @@ struct {
 	__type(key, __u32);
 	__type(value, __u32);
 } sysclass SEC(".maps");
+
+struct {
+	__uint(type, BPF_MAP_TYPE_HASH);
+	__uint(max_entries, RTSUP_DEFAULT_THREADS);	/* --max-threads */
+	__type(key, __u32);
+	__type(value, struct rtsup_thread_cfg);
+} thread_cfg SEC(".maps");
 
 struct {
 	__uint(type, BPF_MAP_TYPE_HASH);
@@ -98,6 +107,12 @@ struct {
 	__uint(max_entries, 256 * 1024);
 } events SEC(".maps");
 
+/* Every finished cycle, only when recording; sized by userspace. */
+struct {
+	__uint(type, BPF_MAP_TYPE_RINGBUF);
+	__uint(max_entries, 4096);
+} cycles SEC(".maps");
+
 /* zero_mem - clear n bytes of a map value by copying the zero template */
 static __always_inline void zero_mem(void *p, __u32 n)
 {
@@ -117,15 +132,46 @@ static __always_inline void count(__u32 which)
 		(*c)++;
 }
 
-/* cfg - the state machine's settings for this event */
-static __always_inline struct cycle_cfg cfg(void)
+/* cfg - the state machine's settings for this event and thread */
+static __always_inline struct cycle_cfg cfg(const struct rtsup_thread_cfg *tc)
 {
 	struct cycle_cfg c = {
-		.ewma_w = cfg_ewma_w,
+		.ewma_w = tc && tc->ewma_w ? tc->ewma_w : cfg_ewma_w,
 		.epoch = epoch,
-		.period = cfg_period,
+		.period = tc && tc->period ? tc->period : cfg_period,
 	};
 	return c;
+}
+
+/* in_list - is nr one of the first n entries of a short list? */
+static __always_inline int in_list(const __u16 *list, __u32 n, __u32 max, __u32 nr)
+{
+	__u32 i;
+
+	for (i = 0; i < max && i < n; i++)
+		if (list[i] == nr)
+			return 1;
+	return 0;
+}
+
+/* record_cycle - one finished cycle for --record; a full buffer is counted */
+static __always_inline void record_cycle(struct rtsup_thread *t, const struct rtsup_cycle *c)
+{
+	struct rtsup_cycle_rec *r;
+
+	if (!cfg_record)
+		return;
+	r = bpf_ringbuf_reserve(&cycles, sizeof(*r), 0);
+	if (!r) {
+		count(RTSUP_C_CYC_DROPS);
+		return;
+	}
+	r->tid = t->tid;
+	r->tgid = t->tgid;
+	r->resets = t->resets;
+	r->pad = 0;
+	r->c = *c;
+	bpf_ringbuf_submit(r, 0);
 }
 
 /* emit - send one rare event; a full ring buffer is counted, not hidden */
@@ -197,6 +243,7 @@ static __always_inline struct rtsup_thread *add_thread(struct task_struct *task,
 static __always_inline void emit_cycle(__u32 ev, struct rtsup_thread *t, __u64 now,
 				       const struct rtsup_cycle *c, __u64 lateness)
 {
+	record_cycle(t, c);
 	if (ev & CYC_EV_MISS)
 		emit(RTSUP_EV_MISS, t, now, lateness, c->exec);
 	if (!(ev & CYC_EV_FAULTS))
@@ -260,12 +307,13 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id)
 {
 	__u32 tid = (__u32)bpf_get_current_pid_tgid();
 	struct rtsup_thread *t = bpf_map_lookup_elem(&threads, &tid);
+	struct rtsup_thread_cfg *tc;
 	struct task_struct *task;
 	struct rtsup_cycle c;
 	struct cycle_cfg cf;
 	__u32 nr, *cls, ev;
 	__u64 now, expected;
-	int unsafe, absolute = 0;
+	int unsafe, delim, absolute = 0;
 
 	if (!t || t->exited)
 		return 0;
@@ -277,8 +325,13 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id)
 	if (!cls)
 		return 0;
 	task = (struct task_struct *)bpf_get_current_task();
-	if (*cls & RTSUP_SC_DELIM) {
-		cf = cfg();
+	tc = bpf_map_lookup_elem(&thread_cfg, &tid);
+	if (tc && tc->ndelims)
+		delim = in_list(tc->delims, tc->ndelims, RTSUP_CFG_DELIMS, nr);
+	else
+		delim = *cls & RTSUP_SC_DELIM;
+	if (delim) {
+		cf = cfg(tc);
 		expected = sleep_release(regs, *cls, now, &absolute);
 		ev = cycle_delim_enter(t, &cf, now, expected, absolute,
 				       BPF_CORE_READ(task, min_flt),
@@ -288,6 +341,10 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id)
 		return 0;
 	}
 	unsafe = *cls & RTSUP_SC_UNSAFE;
+	if (tc && unsafe && in_list(tc->allow, tc->nallow, RTSUP_CFG_SYSCALLS, nr))
+		unsafe = 0;
+	else if (tc && !unsafe && in_list(tc->forbid, tc->nforbid, RTSUP_CFG_SYSCALLS, nr))
+		unsafe = 1;
 	if (unsafe && (*cls & RTSUP_SC_FDCHECK))
 		unsafe = fd_is_file_or_tty(task, PT_REGS_PARM1_CORE_SYSCALL(regs));
 	ev = cycle_syscall(t, unsafe);
@@ -343,7 +400,8 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 	if (pt) {
 		int voluntary = !preempt && get_task_state(prev) != 0;
 
-		cf = cfg();
+		cf = cfg(pt->cs.mode == RTSUP_MODE_DELIM ? NULL :
+			 bpf_map_lookup_elem(&thread_cfg, &prev_tid));
 		ev = cycle_switch_out(pt, &cf, now, voluntary, BPF_CORE_READ(prev, min_flt),
 				      BPF_CORE_READ(prev, maj_flt), &c);
 		if (ev & CYC_EV_BLOCK)
@@ -376,8 +434,11 @@ static __always_inline int on_wakeup(struct task_struct *p)
 /* on_fork - threads of a target process, tasks of the target cgroup */
 static __always_inline int on_fork(struct task_struct *parent, struct task_struct *child)
 {
-	__u32 tgid = BPF_CORE_READ(child, tgid);
+	__u32 tgid = BPF_CORE_READ(child, tgid), ptgid = BPF_CORE_READ(parent, tgid), one = 1;
 
+	/* -- CMD: what the command forks is part of it */
+	if (cfg_follow && tgid != ptgid && bpf_map_lookup_elem(&tgids, &ptgid))
+		bpf_map_update_elem(&tgids, &tgid, &one, BPF_ANY);
 	if (bpf_map_lookup_elem(&tgids, &tgid) ||
 	    (cfg_cgroup && bpf_current_task_under_cgroup(&cgroup, 0) == 1))
 		add_thread(child, bpf_ktime_get_ns());
@@ -429,7 +490,8 @@ static __always_inline int on_exit(struct task_struct *task)
 		return 0;
 	now = bpf_ktime_get_ns();
 	cycle_exit(t, now, BPF_CORE_READ(task, min_flt), BPF_CORE_READ(task, maj_flt));
-	emit(RTSUP_EV_EXIT, t, now, t->exit_mid_cycle, BPF_CORE_READ(task, exit_code));
+	t->exit_code = BPF_CORE_READ(task, exit_code);
+	emit(RTSUP_EV_EXIT, t, now, t->exit_mid_cycle, t->exit_code);
 	return 0;
 }
 

@@ -154,7 +154,36 @@ struct rtsup_thread {
 	__u32 last_signal;
 	__u32 epoch;		/* interval whose bank the stats write to */
 	__u32 resets;		/* times the stats restarted (first delimiter) */
+	__s32 exit_code;	/* task exit code: signal in bits 0-6, status in 8-15 */
+	__u32 pad2;
 	struct rtsup_metric_stats m[RTSUP_M_NR];
+};
+
+#define RTSUP_CFG_DELIMS	4
+#define RTSUP_CFG_SYSCALLS	8
+
+/*
+ * Per-thread settings from the configuration's rules (map "thread_cfg",
+ * written by userspace only): they override the global ones.
+ */
+struct rtsup_thread_cfg {
+	__u64 period;			/* nominal period, 0 = global */
+	__u32 ewma_w;			/* 0 = global */
+	__u32 ndelims;			/* 0 = the global delimiters */
+	__u16 delims[RTSUP_CFG_DELIMS];
+	__u16 allow[RTSUP_CFG_SYSCALLS];	/* never unsafe for this thread */
+	__u16 forbid[RTSUP_CFG_SYSCALLS];	/* unsafe for this thread too */
+	__u32 nallow;
+	__u32 nforbid;
+};
+
+/* One finished cycle, sent only when recording (--record, --perfetto). */
+struct rtsup_cycle_rec {
+	__u32 tid;
+	__u32 tgid;
+	__u32 resets;		/* the thread's reset generation (see cycle_reset_stats) */
+	__u32 pad;
+	struct rtsup_cycle c;
 };
 
 /* Key of the map "unsafe_sys": unsafe syscalls counted per thread. */
@@ -190,6 +219,7 @@ enum rtsup_counter {
 	RTSUP_C_MAP_FULL,	/* threads we could not track */
 	RTSUP_C_SYS_FULL,	/* unsafe_sys entries we could not add */
 	RTSUP_C_NEW,		/* threads added by the kernel side */
+	RTSUP_C_CYC_DROPS,	/* cycle records the recording buffer had no room for */
 	RTSUP_C_NR,
 };
 

@@ -8,6 +8,7 @@
 #include <string.h>
 #include "options.h"
 #include "rtsup.h"
+#include "status.h"
 
 const char *argp_program_version = "rtsup-trace 0.1";
 const char *argp_program_bug_address = "the rtsup issue tracker";
@@ -16,15 +17,23 @@ static const char doc[] =
 "rtsup-trace: supervise the real-time cycles of unmodified threads with eBPF.\n"
 "\n"
 "USAGE: rtsup-trace [-p PID] [-t TID] [-c COMM] [--rt] [--cgroup PATH]\n"
-"                   [-i INTERVAL] [-d DURATION] [-j] [-v]\n"
+"                   [-i INTERVAL] [-d DURATION] [-j] [-v] [--config FILE]\n"
+"                   [--check [--fail-on warn|error]] [--record FILE] [--perfetto FILE]\n"
+"                   [-- CMD [ARGS...]]\n"
+"       rtsup-trace replay FILE [--config FILE] [-j] [--check] [--perfetto FILE]\n"
+"       rtsup-trace --check-config FILE\n"
 "\n"
 "EXAMPLES:\n"
 "    rtsup-trace --pid $(pidof my_controller)   # table every second\n"
 "    rtsup-trace --comm ros2_control_node -d 30s -j  # JSON lines for 30 s\n"
 "    rtsup-trace --rt                          # every SCHED_FIFO/RR/DEADLINE thread\n"
 "    rtsup-trace -p 1234 --cycle-syscall epoll_wait  # cycles end in epoll_wait\n"
+"    rtsup-trace --check --config rt.yaml -- ./my_control_test  # CI\n"
+"    rtsup-trace -p 1234 -d 1m --record run.rtsup; rtsup-trace replay run.rtsup --check\n"
 "\n"
-"Exit status: 0 on success, 1 on an error of the tool itself.";
+"Exit status: 0 on success (with --check: every component stayed OK), 1 on an\n"
+"error of the tool itself, 2 with --check when a component reached WARN or\n"
+"ERROR (see --fail-on). With -- CMD and no violation: the command's status.";
 
 enum {
 	OPT_RT = 1000,
@@ -35,6 +44,13 @@ enum {
 	OPT_MAX_THREADS,
 	OPT_RAW_TP,
 	OPT_COLOR,
+	OPT_CONFIG,
+	OPT_CHECK_CONFIG,
+	OPT_CHECK,
+	OPT_FAIL_ON,
+	OPT_RECORD,
+	OPT_PERFETTO,
+	OPT_NO_OVERHEAD,
 };
 
 static const struct argp_option opts[] = {
@@ -54,6 +70,13 @@ static const struct argp_option opts[] = {
 	{ "max-threads", OPT_MAX_THREADS, "N", 0, "Capacity of the thread map (default 4096)", 0 },
 	{ "raw-tp", OPT_RAW_TP, NULL, 0, "Use raw tracepoints even where tp_btf works", 0 },
 	{ "color", OPT_COLOR, "WHEN", 0, "auto (default), always or never", 0 },
+	{ "config", OPT_CONFIG, "FILE", 0, "YAML rules and thresholds (SIGHUP reloads it)", 0 },
+	{ "check-config", OPT_CHECK_CONFIG, "FILE", 0, "Validate FILE, print the effective rules, exit", 0 },
+	{ "check", OPT_CHECK, NULL, 0, "Exit 2 if a component reached WARN or ERROR", 0 },
+	{ "fail-on", OPT_FAIL_ON, "LEVEL", 0, "With --check: warn (default) or error", 0 },
+	{ "record", OPT_RECORD, "FILE", 0, "Record every cycle and rare event to FILE", 0 },
+	{ "perfetto", OPT_PERFETTO, "FILE", 0, "Write a Perfetto (Chrome JSON) trace to FILE", 0 },
+	{ "no-overhead", OPT_NO_OVERHEAD, NULL, 0, "Do not switch on BPF run-time statistics (no overhead check)", 0 },
 	{},
 };
 
@@ -156,6 +179,7 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 		o->verbose = true;
 		break;
 	case OPT_CYCLE_SYSCALL:
+		o->delims_given = true;
 		o->ndelims = 0;
 		for (tok = strtok_r(arg, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
 			if (o->ndelims == SYSCALLS_MAX_DELIMS)
@@ -171,6 +195,7 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 		d = strtod(arg, &tok);
 		if (*tok || d <= 0 || d > 1)
 			return bad(st, "--ewma-weight", arg, "want a number in (0, 1]");
+		o->ewma_given = true;
 		o->ewma_w = (__u32)(d * RTSUP_EWMA_ONE + 0.5);
 		if (!o->ewma_w)
 			o->ewma_w = 1;
@@ -179,6 +204,7 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 		d = parse_duration(arg);
 		if (d <= 0)
 			return bad(st, "--period", arg, "want a time such as 1ms");
+		o->period_given = true;
 		o->period_ns = (__u64)(d * 1e9 + 0.5);
 		break;
 	case OPT_MAX_THREADS:
@@ -199,11 +225,52 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 		else
 			return bad(st, "--color", arg, "want auto, always or never");
 		break;
+	case OPT_CONFIG:
+		o->config_path = arg;
+		break;
+	case OPT_CHECK_CONFIG:
+		o->check_config = arg;
+		break;
+	case OPT_CHECK:
+		o->check = true;
+		break;
+	case OPT_FAIL_ON:
+		if (!strcmp(arg, "warn"))
+			o->fail_on = LEVEL_WARN;
+		else if (!strcmp(arg, "error"))
+			o->fail_on = LEVEL_ERROR;
+		else
+			return bad(st, "--fail-on", arg, "want warn or error");
+		break;
+	case OPT_RECORD:
+		o->record_path = arg;
+		break;
+	case OPT_PERFETTO:
+		o->perfetto_path = arg;
+		break;
+	case OPT_NO_OVERHEAD:
+		o->no_overhead = true;
+		break;
 	case ARGP_KEY_ARG:
-		fprintf(stderr, "rtsup-trace: unexpected argument '%s'\n", arg);
-		return EINVAL;
+		if (o->replay_path && !*o->replay_path) {
+			o->replay_path = arg;	/* replay FILE */
+			break;
+		}
+		return ARGP_ERR_UNKNOWN;	/* the command: ARGP_KEY_ARGS */
+	case ARGP_KEY_ARGS:
+		if (o->replay_path) {
+			fprintf(stderr, "rtsup-trace: replay: unexpected argument '%s'\n",
+				st->argv[st->next]);
+			return EINVAL;
+		}
+		o->cmd = st->argv + st->next;
+		break;
 	case ARGP_KEY_END:
-		if (!targets_any(t)) {
+		if (o->replay_path && !*o->replay_path) {
+			fprintf(stderr, "rtsup-trace: replay: which file? (rtsup-trace replay FILE)\n");
+			return EINVAL;
+		}
+		if (!targets_any(t) && !o->cmd && !o->check_config && !o->replay_path) {
 			fprintf(stderr, "rtsup-trace: no target: give --pid, --tid, --comm, --rt or --cgroup\n");
 			return EINVAL;
 		}
@@ -226,7 +293,14 @@ int options_parse(int argc, char **argv, struct options *o)
 	o->delims[0] = "clock_nanosleep";
 	o->delims[1] = "nanosleep";
 	o->ndelims = 2;
+	o->fail_on = LEVEL_WARN;
 	/* argp's own usage errors exit with our "tool error" status */
 	argp_err_exit_status = 1;
+	if (argc > 1 && !strcmp(argv[1], "replay")) {
+		/* "replay FILE [options]": argp sees FILE as the first argument */
+		o->replay_path = "";
+		argv[1] = argv[0];
+		return argp_parse(&argp, argc - 1, argv + 1, 0, NULL, o) ? -1 : 0;
+	}
 	return argp_parse(&argp, argc, argv, 0, NULL, o) ? -1 : 0;
 }

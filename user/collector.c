@@ -11,6 +11,8 @@
 #include "collector.h"
 #include "cycle.h"
 #include "targets.h"
+#include "syscalls.h"
+#include "supervise.h"
 #include "rtsup.skel.h"
 
 __u64 mono_now(void)
@@ -50,12 +52,24 @@ static int on_event(void *ctx, void *data, size_t len)
 
 	if (len < sizeof(struct rtsup_event))
 		return 0;
+	if (c->on_rare)
+		c->on_rare(c->sink_ctx, data);
 	c->events_total++;
 	if (c->nevents == COLLECTOR_MAX_EVENTS) {
 		c->events_over++;
 		return 0;
 	}
 	memcpy(&c->events[c->nevents++], data, sizeof(struct rtsup_event));
+	return 0;
+}
+
+/* on_cycle_rec - recording ring buffer callback: hand the cycle to the sinks */
+static int on_cycle_rec(void *ctx, void *data, size_t len)
+{
+	struct collector *c = ctx;
+
+	if (len >= sizeof(struct rtsup_cycle_rec) && c->on_cycle)
+		c->on_cycle(c->sink_ctx, data);
 	return 0;
 }
 
@@ -95,7 +109,8 @@ int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct opt
 	c->start_ns = mono_now();
 	update_clocks(c);
 	c->rb = ring_buffer__new(bpf_map__fd(skel->maps.events), on_event, c, NULL);
-	if (!c->rb) {
+	if (!c->rb || (skel->rodata->cfg_record &&
+		       ring_buffer__add(c->rb, bpf_map__fd(skel->maps.cycles), on_cycle_rec, c))) {
 		fprintf(stderr, "rtsup-trace: cannot create the ring buffer: %s\n", strerror(errno));
 		return -1;
 	}
@@ -154,10 +169,37 @@ static void read_unsafe_sys(struct collector *c)
 	}
 }
 
+/* read_cgroup - the thread's cgroup v2 path from /proc/<tid>/cgroup */
+static void read_cgroup(struct thread_model *tm)
+{
+	char path[64], line[512];
+	FILE *f;
+
+	snprintf(path, sizeof(path), "/proc/%u/task/%u/cgroup", tm->tgid, tm->tid);
+	f = fopen(path, "re");
+	if (!f)
+		return;
+	while (fgets(line, sizeof(line), f)) {
+		if (!strncmp(line, "0::", 3)) {
+			line[strcspn(line, "\n")] = '\0';
+			snprintf(tm->cgroup, sizeof(tm->cgroup), "%.255s", line + 3);
+			break;
+		}
+	}
+	fclose(f);
+}
+
 /* refresh_identity - scheduling attributes of a live thread */
 static void refresh_identity(struct thread_model *tm)
 {
 	struct sched_param sp;
+
+	if (!tm->pcomm[0]) {
+		/* once: what the rules match on */
+		if (thread_comm(tm->tgid, tm->tgid, tm->pcomm, sizeof(tm->pcomm)))
+			snprintf(tm->pcomm, sizeof(tm->pcomm), "%s", tm->comm);
+		read_cgroup(tm);
+	}
 
 	tm->policy = sched_getscheduler(tm->tid);
 	if (tm->policy < 0)
@@ -198,6 +240,8 @@ int collector_sample(struct collector *c)
 		tm = model_get(&c->model, key, true);
 		if (!tm)
 			break;
+		if (!tm->cur.first_seen)
+			tm->rule = -1;
 		/* a tid reused by a new thread starts a new model */
 		if (tm->cur.first_seen && tm->cur.first_seen != t->first_seen) {
 			model_remove(&c->model, key);
@@ -250,6 +294,7 @@ void collector_reap(struct collector *c)
 		/* reported once: the kernel entry is freed, the model keeps the numbers */
 		tm->reported_exit = true;
 		bpf_map_delete_elem(fd, &tm->tid);
+		bpf_map_delete_elem(bpf_map__fd(c->skel->maps.thread_cfg), &tm->tid);
 		forget_sys(c, tm->tid);
 	}
 	/* processes that are gone must not match a reused pid */
@@ -260,6 +305,43 @@ void collector_reap(struct collector *c)
 			continue;
 		}
 		prev = &key;
+	}
+}
+
+/* syscall_list - names to numbers for the kernel; unknown names were rejected at load */
+static __u32 syscall_list(__u16 *out, __u32 max, char names[][32], int n)
+{
+	__u32 k = 0;
+	int i, nr;
+
+	for (i = 0; i < n && k < max; i++)
+		if ((nr = syscall_nr(names[i])) >= 0)
+			out[k++] = nr;
+	return k;
+}
+
+void collector_apply_rules(struct collector *c, const struct supervisor *s)
+{
+	int fd = bpf_map__fd(c->skel->maps.thread_cfg), i;
+
+	for (i = 0; i < c->model.n; i++) {
+		struct thread_model *tm = &c->model.t[i];
+		const struct rule *r;
+		struct rtsup_thread_cfg tc = {};
+
+		if (!tm->alive || tm->cfg_gen == s->gen || tm->rule_gen != s->gen)
+			continue;
+		r = supervise_rule(s, tm);
+		tc.period = r->period_ns;
+		tc.ewma_w = (__u32)(r->ewma_weight * RTSUP_EWMA_ONE + 0.5);
+		tc.ndelims = syscall_list(tc.delims, RTSUP_CFG_DELIMS, (char (*)[32])r->delims,
+					  r->ndelims);
+		tc.nallow = syscall_list(tc.allow, RTSUP_CFG_SYSCALLS, (char (*)[32])r->allow,
+					 r->nallow);
+		tc.nforbid = syscall_list(tc.forbid, RTSUP_CFG_SYSCALLS, (char (*)[32])r->forbid,
+					  r->nforbid);
+		if (!bpf_map_update_elem(fd, &tm->tid, &tc, BPF_ANY))
+			tm->cfg_gen = s->gen;
 	}
 }
 

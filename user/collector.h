@@ -29,6 +29,10 @@ struct collector {
 	__u64 events_total;
 	__s64 real_off;			/* CLOCK_REALTIME - CLOCK_MONOTONIC, ns */
 	__u64 start_ns;			/* monotonic start */
+	/* sinks that want every cycle and event as it comes (--record, --perfetto) */
+	void (*on_cycle)(void *ctx, const struct rtsup_cycle_rec *r);
+	void (*on_rare)(void *ctx, const struct rtsup_event *e);
+	void *sink_ctx;
 };
 
 /* collector_init - ring buffer, initial scan of the targets */
@@ -39,6 +43,9 @@ int collector_poll(struct collector *c, int ms);
 int collector_sample(struct collector *c);
 /* collector_reap - after the sinks ran: free what dead threads left */
 void collector_reap(struct collector *c);
+struct supervisor;
+/* collector_apply_rules - per-thread settings of the matching rules, to the kernel */
+void collector_apply_rules(struct collector *c, const struct supervisor *s);
 /* collector_clear_events - forget the events of the interval */
 void collector_clear_events(struct collector *c);
 void collector_free(struct collector *c);

@@ -99,6 +99,7 @@ int loader_start(struct loader *l, const struct options *o)
 
 	memset(l, 0, sizeof(*l));
 	l->cgroup_fd = -1;
+	l->stats_fd = -1;
 	if (check_privileges())
 		return -1;
 	if (access("/sys/kernel/btf/vmlinux", R_OK)) {
@@ -119,10 +120,16 @@ int loader_start(struct loader *l, const struct options *o)
 	s->rodata->cfg_rt = o->targets.rt;
 	s->rodata->cfg_cgroup = o->targets.cgroup != NULL;
 	s->rodata->cfg_ncomm = o->targets.ncomms;
+	s->rodata->cfg_record = o->record_path || o->perfetto_path;
+	s->rodata->cfg_follow = o->cmd != NULL;
 	for (i = 0; i < o->targets.ncomms; i++)
 		memcpy((char *)s->rodata->cfg_comms[i], o->targets.comms[i], RTSUP_COMM_LEN);
 	bpf_map__set_max_entries(s->maps.threads, o->max_threads);
 	bpf_map__set_max_entries(s->maps.unsafe_sys, o->max_threads * 4);
+	bpf_map__set_max_entries(s->maps.thread_cfg, o->max_threads);
+	/* a cycle record per cycle: 4 MiB hold seconds of a busy machine */
+	if (s->rodata->cfg_record)
+		bpf_map__set_max_entries(s->maps.cycles, 4 << 20);
 
 	err = rtsup_bpf__load(s);
 	if (err) {
@@ -149,14 +156,43 @@ int loader_start(struct loader *l, const struct options *o)
 			strerror(-err));
 		goto fail;
 	}
+	/* the overhead check reads run_time_ns; without it, it is skipped */
+	if (!o->no_overhead)
+		l->stats_fd = bpf_enable_stats(BPF_STATS_RUN_TIME);
 	return 0;
 fail:
 	loader_stop(l);
 	return -1;
 }
 
+long long loader_run_time(const struct loader *l)
+{
+	struct bpf_prog_info info;
+	struct bpf_program *p;
+	__u32 len;
+	long long sum = 0;
+
+	if (l->stats_fd < 0)
+		return -1;
+	bpf_object__for_each_program(p, l->skel->obj) {
+		int fd = bpf_program__fd(p);
+
+		if (fd < 0)
+			continue;	/* the program set we did not load */
+		memset(&info, 0, sizeof(info));
+		len = sizeof(info);
+		if (bpf_obj_get_info_by_fd(fd, &info, &len))
+			return -1;
+		sum += info.run_time_ns;
+	}
+	return sum;
+}
+
 void loader_stop(struct loader *l)
 {
+	if (l->stats_fd >= 0)
+		close(l->stats_fd);
+	l->stats_fd = -1;
 	rtsup_bpf__destroy(l->skel);
 	l->skel = NULL;
 	if (l->cgroup_fd >= 0)

@@ -12,6 +12,7 @@ struct loader {
 	struct rtsup_bpf *skel;
 	bool tp_btf;		/* which program set is attached */
 	int cgroup_fd;
+	int stats_fd;		/* holds BPF run-time statistics on, -1 = off */
 };
 
 /*
@@ -20,5 +21,10 @@ struct loader {
  */
 int loader_start(struct loader *l, const struct options *o);
 void loader_stop(struct loader *l);
+/*
+ * loader_run_time - total run time of our programs in ns, from the kernel's
+ * BPF statistics (switched on while we run); -1 when they are unavailable.
+ */
+long long loader_run_time(const struct loader *l);
 
 #endif

@@ -1,26 +1,38 @@
 // SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
 /*
  * main.c - rtsup-trace: parse, load, attach, then once per interval
- * collect -> model -> output; SIGINT/SIGTERM end with a summary.
+ * collect -> model -> checks -> sinks; SIGINT/SIGTERM end with a summary,
+ * SIGHUP reloads the configuration.
  */
 #include <errno.h>
+#include <fcntl.h>
 #include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
+#include <sys/wait.h>
 #include <bpf/libbpf.h>
 #include "collector.h"
+#include "config.h"
 #include "loader.h"
 #include "options.h"
 #include "output.h"
+#include "replay.h"
+#include "sinks.h"
+#include "supervise.h"
 #include "targets.h"
 #include "rtsup.skel.h"
 
-static volatile sig_atomic_t exiting;
+static volatile sig_atomic_t exiting, reload;
 
 static void on_signal(int sig)
 {
-	exiting = 1;
+	if (sig == SIGHUP)
+		reload = 1;
+	else
+		exiting = sig;
 }
 
 static bool verbose;
@@ -56,39 +68,155 @@ static int check_targets(const struct options *o)
 	return 0;
 }
 
-int main(int argc, char **argv)
+/* load_config - the file (or the built-in defaults) with the command line over it */
+static int load_config(const struct options *o, const char *path, struct config *cfg)
 {
-	struct options o;
+	char err[512];
+	int i;
+
+	if (!path) {
+		config_defaults(cfg);
+	} else if (config_load(path, cfg, err, sizeof(err))) {
+		fprintf(stderr, "rtsup-trace: %s\n", err);
+		return -1;
+	}
+	/* what the command line says wins over the file's defaults */
+	for (i = -1; i < cfg->nrules; i++) {
+		struct rule *r = i < 0 ? &cfg->defaults : &cfg->rules[i];
+		int d;
+
+		if (o->delims_given && (i < 0 || !(r->set & RF_DELIMS))) {
+			for (d = 0; d < o->ndelims && d < CONFIG_MAX_SYSCALLS; d++)
+				snprintf(r->delims[d], sizeof(r->delims[d]), "%s", o->delims[d]);
+			r->ndelims = d;
+		}
+		if (o->ewma_given && (i < 0 || !(r->set & RF_EWMA)))
+			r->ewma_weight = (double)o->ewma_w / RTSUP_EWMA_ONE;
+		if (o->period_given && (i < 0 || !(r->set & RF_PERIOD)))
+			r->period_ns = o->period_ns;
+	}
+	return 0;
+}
+
+/*
+ * spawn_cmd - fork the command; it waits on a pipe until the programs are
+ * attached, so its first instruction is already supervised.
+ */
+static pid_t spawn_cmd(char **cmd, int *go_fd)
+{
+	int p[2];
+	pid_t pid;
+	char c;
+
+	if (pipe2(p, O_CLOEXEC))
+		return -1;
+	pid = fork();
+	if (pid < 0)
+		return -1;
+	if (pid == 0) {
+		close(p[1]);
+		if (read(p[0], &c, 1) != 1)
+			_exit(127);	/* rtsup-trace failed: do not run unsupervised */
+		execvp(cmd[0], cmd);
+		fprintf(stderr, "rtsup-trace: cannot run '%s': %s\n", cmd[0], strerror(errno));
+		_exit(127);
+	}
+	close(p[0]);
+	*go_fd = p[1];
+	return pid;
+}
+
+/* self_in - what the supervisor knows about itself this interval */
+static void self_in(struct self_in *in, const struct loader *l, const struct collector *c,
+		    const struct supervisor *s, long long *last_rt, __u64 *last_drops,
+		    double elapsed)
+{
+	long long rt = loader_run_time(l);
+
+	in->th = &s->cfg.defaults.th;
+	in->overhead_pct = rt >= 0 && *last_rt >= 0 && elapsed > 0 ?
+			   (rt - *last_rt) / (elapsed * 1e9) * 100 : -1;
+	*last_rt = rt;
+	in->lost_events = c->counters[RTSUP_C_RB_DROPS] + c->counters[RTSUP_C_CYC_DROPS] -
+			  *last_drops;
+	*last_drops = c->counters[RTSUP_C_RB_DROPS] + c->counters[RTSUP_C_CYC_DROPS];
+	in->untracked_threads = c->counters[RTSUP_C_MAP_FULL];
+}
+
+/* do_reload - SIGHUP: a good file replaces the rules, a bad one is refused */
+static void do_reload(const struct options *o, struct supervisor *s)
+{
+	struct config cfg;
+
+	if (!o->config_path) {
+		fprintf(stderr, "rtsup-trace: SIGHUP: no --config file to reload\n");
+		return;
+	}
+	if (load_config(o, o->config_path, &cfg)) {
+		fprintf(stderr, "rtsup-trace: SIGHUP: keeping the previous rules\n");
+		return;
+	}
+	supervise_reload(s, &cfg);
+	fprintf(stderr, "rtsup-trace: SIGHUP: reloaded %s\n", o->config_path);
+}
+
+/* run_live - supervise targets until the duration, a signal, or the command ends */
+static int run_live(struct options *o, struct supervisor *s)
+{
 	struct loader l;
 	struct collector c;
-	struct sigaction sa = { .sa_handler = on_signal };
-	__u64 start, next, last, now, end = 0;
-	int err = 1;
+	struct sinks sk;
+	struct self_in self;
+	__u64 start, next, last, now, end = 0, last_drops = 0;
+	long long last_rt = -1;
+	pid_t child = -1;
+	int go_fd = -1, status = 0, err = 1;
+	enum level worst = LEVEL_OK;
+	bool child_done = false;
 
-	if (options_parse(argc, argv, &o))
+	if (check_targets(o))
 		return 1;
-	verbose = o.verbose;
-	libbpf_set_print(libbpf_print);
-	if (check_targets(&o))
-		return 1;
-	sigaction(SIGINT, &sa, NULL);
-	sigaction(SIGTERM, &sa, NULL);
-	if (loader_start(&l, &o))
-		return 1;
-	if (collector_init(&c, l.skel, &o))
+	if (o->cmd) {
+		child = spawn_cmd(o->cmd, &go_fd);
+		if (child < 0) {
+			fprintf(stderr, "rtsup-trace: cannot start '%s': %s\n", o->cmd[0],
+				strerror(errno));
+			return 1;
+		}
+		o->targets.pids[o->targets.npids++] = child;
+		s->cmd_mode = true;
+	}
+	if (loader_start(&l, o))
+		goto out_child;
+	if (collector_init(&c, l.skel, o))
 		goto out;
-	/* stderr, so stdout stays parsable; tests wait for this line */
+	if (sinks_open(&sk, o, s, &c))
+		goto out;
+	s->real_off = c.real_off;
 	fprintf(stderr, "rtsup-trace: tracing with %s programs; Ctrl-C ends with a summary\n",
 		l.tp_btf ? "tp_btf" : "raw tracepoint");
+	if (go_fd >= 0) {
+		if (write(go_fd, "g", 1) != 1)
+			goto out;
+		close(go_fd);
+		go_fd = -1;
+	}
 	start = last = mono_now();
-	next = start + (__u64)(o.interval * 1e9);
-	if (o.duration)
-		end = start + (__u64)(o.duration * 1e9);
-	while (!exiting) {
+	last_rt = loader_run_time(&l);
+	next = start + (__u64)(o->interval * 1e9);
+	if (o->duration)
+		end = start + (__u64)(o->duration * 1e9);
+	while (!exiting && !child_done) {
 		now = mono_now();
 		if (end && now >= end)
 			break;
-		if (now < next) {
+		if (reload) {
+			reload = 0;
+			do_reload(o, s);
+		}
+		if (child > 0 && waitpid(child, &status, WNOHANG) == child)
+			child_done = true;
+		if (now < next && !child_done) {
 			__u64 until = end && end < next ? end : next;
 			int ms = (until - now) / 1000000 + 1;
 
@@ -97,21 +225,90 @@ int main(int argc, char **argv)
 			continue;
 		}
 		collector_sample(&c);
-		output_interval(&c, (now - start) / 1e9, (now - last) / 1e9);
+		s->real_off = c.real_off;
+		self_in(&self, &l, &c, s, &last_rt, &last_drops, (now - last) / 1e9);
+		supervise_interval(s, &c.model, c.bank, &self, now);
+		output_interval(&c, s, (now - start) / 1e9, (now - last) / 1e9);
+		if (sinks_interval(&sk, &c, &self, now))
+			goto out;
+		collector_apply_rules(&c, s);
 		collector_clear_events(&c);
 		collector_reap(&c);
 		last = now;
-		next += (__u64)(o.interval * 1e9);
+		next += (__u64)(o->interval * 1e9);
 		if (next <= now)
-			next = now + (__u64)(o.interval * 1e9);
+			next = now + (__u64)(o->interval * 1e9);
 	}
 	/* the last partial interval still counts in the summary */
-	collector_sample(&c);
+	if (child > 0 && !child_done) {
+		kill(child, exiting ? exiting : SIGTERM);
+		waitpid(child, &status, 0);
+		child_done = true;
+	}
 	now = mono_now();
-	output_summary(&c, (now - start) / 1e9);
+	collector_sample(&c);
+	self_in(&self, &l, &c, s, &last_rt, &last_drops, (now - last) / 1e9);
+	supervise_interval(s, &c.model, c.bank, &self, now);
+	output_summary(&c, s, (now - start) / 1e9);
+	if (sinks_close(&sk, &c, &self, now))
+		goto out;
 	err = 0;
+	worst = supervise_worst(s, &c.model);
 out:
 	collector_free(&c);
 	loader_stop(&l);
-	return err;
+out_child:
+	if (go_fd >= 0)
+		close(go_fd);	/* the command sees EOF and does not run */
+	if (child > 0 && !child_done)
+		waitpid(child, &status, 0);
+	if (err)
+		return 1;
+	if (o->check && level_fails(worst, o->fail_on))
+		return 2;
+	if (child > 0 && WIFEXITED(status) && WEXITSTATUS(status)) {
+		fprintf(stderr, "rtsup-trace: %s exited with status %d\n", o->cmd[0],
+			WEXITSTATUS(status));
+		return WEXITSTATUS(status);
+	}
+	if (child > 0 && WIFSIGNALED(status)) {
+		fprintf(stderr, "rtsup-trace: %s was killed by signal %d\n", o->cmd[0],
+			WTERMSIG(status));
+		return 128 + WTERMSIG(status);
+	}
+	return 0;
+}
+
+int main(int argc, char **argv)
+{
+	struct sigaction sa = { .sa_handler = on_signal };
+	struct options o;
+	struct supervisor s;
+	struct config cfg;
+	int ret;
+
+	if (options_parse(argc, argv, &o))
+		return 1;
+	verbose = o.verbose;
+	libbpf_set_print(libbpf_print);
+	if (o.check_config) {
+		if (load_config(&o, o.check_config, &cfg))
+			return 1;
+		config_print(&cfg, stdout);
+		config_free(&cfg);
+		return 0;
+	}
+	if (load_config(&o, o.config_path, &cfg))
+		return 1;
+	supervise_init(&s, &cfg);
+	s.json = o.json;
+	sigaction(SIGINT, &sa, NULL);
+	sigaction(SIGTERM, &sa, NULL);
+	sigaction(SIGHUP, &sa, NULL);
+	if (o.replay_path)
+		ret = replay_run(&o, &s);
+	else
+		ret = run_live(&o, &s);
+	supervise_free(&s);
+	return ret;
 }

@@ -10,6 +10,7 @@
 #include <stdbool.h>
 #include <linux/types.h>
 #include "rtsup.h"
+#include "status.h"
 
 /* One metric, in ns, over a window or a lifetime. */
 struct metric_view {
@@ -63,6 +64,17 @@ struct thread_model {
 	bool have_prev;
 	int nsys;
 	struct sys_count sys[MODEL_MAX_SYS];
+	/* supervision: filled by the supervisor, read by the sinks */
+	char pcomm[RTSUP_COMM_LEN];	/* the process's name */
+	char cgroup[256];		/* cgroup v2 path, "" if unknown */
+	int rule;			/* index of the matching rule, -1 = defaults */
+	__u32 rule_gen;			/* config generation 'rule' belongs to, 0 = none */
+	__u32 cfg_gen;			/* config generation written to the kernel */
+	__u32 restarted_from;		/* tid of the dead instance it replaces */
+	bool replaced;			/* a restarted instance took its place */
+	bool was_rt;			/* it ran with an RT policy at some point */
+	struct status st;		/* verdict of the last interval */
+	enum level worst;		/* worst level ever reached */
 };
 
 struct model {

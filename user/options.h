@@ -21,6 +21,18 @@ struct options {
 	__u64 period_ns;	/* nominal period when none is derived */
 	__u32 max_threads;
 	int color;		/* -1 auto, 0 never, 1 always */
+	bool delims_given;	/* command-line settings win over the config's defaults */
+	bool ewma_given;
+	bool period_given;
+	const char *config_path;	/* --config */
+	const char *check_config;	/* --check-config: validate, print, exit */
+	bool check;		/* --check: exit 2 on violations */
+	int fail_on;		/* enum level: LEVEL_WARN (default) or LEVEL_ERROR */
+	const char *record_path;	/* --record */
+	const char *perfetto_path;	/* --perfetto */
+	bool no_overhead;	/* --no-overhead: keep BPF statistics off */
+	char **cmd;		/* -- CMD ARGS: run and supervise it */
+	const char *replay_path;	/* rtsup-trace replay FILE */
 };
 
 /* options_parse - parse argv; prints a one-line error and returns -1 on error */

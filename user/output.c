@@ -91,9 +91,20 @@ static json_t *json_span(const struct span_view *s, const struct thread_model *t
 	return o;
 }
 
+/* json_status - a component's level and messages */
+static json_t *json_status(const struct status *st)
+{
+	json_t *m = json_array();
+	int i;
+
+	for (i = 0; i < st->nmsg; i++)
+		json_array_append_new(m, json_string(st->msg[i]));
+	return json_pack("{s:s,s:o}", "level", level_name(st->level), "messages", m);
+}
+
 /* json_thread - identity of a thread plus the requested spans */
-static json_t *json_thread(const struct collector *c, const struct thread_model *tm,
-			   bool window)
+static json_t *json_thread(const struct collector *c, const struct supervisor *sv,
+			   const struct thread_model *tm, bool window)
 {
 	static const char *const modes[] = { "none", "activation", "delimiter" };
 	struct span_view s;
@@ -103,8 +114,15 @@ static json_t *json_thread(const struct collector *c, const struct thread_model 
 		      "comm", tm->comm, "policy", policy_name(tm->policy), "prio", tm->prio,
 		      "cpus", tm->cpus[0] ? tm->cpus : "-", "alive", tm->alive, "mode",
 		      modes[tm->cur.cs.mode < 3 ? tm->cur.cs.mode : 0]);
-	if (tm->cur.exited)
+	if (tm->cur.exited) {
 		json_object_set_new(o, "exit_mid_cycle", json_boolean(tm->cur.exit_mid_cycle));
+		json_object_set_new(o, "exit_code", json_integer(tm->cur.exit_code));
+	}
+	json_object_set_new(o, "process", json_string(tm->pcomm));
+	json_object_set_new(o, "status", json_status(&tm->st));
+	json_object_set_new(o, "worst_level", json_string(level_name(tm->worst)));
+	if (tm->rule >= 0 && tm->rule_gen == sv->gen)
+		json_object_set_new(o, "rule", json_string(supervise_rule(sv, tm)->name));
 	if (window) {
 		span_window(&tm->cur, tm->have_prev ? &tm->prev : NULL, c->bank, &s);
 		json_object_set_new(o, "interval", json_span(&s, tm, true));
@@ -147,16 +165,20 @@ static json_t *json_event(const struct collector *c, const struct rtsup_event *e
 }
 
 /* json_common - the fields every report carries */
-static json_t *json_common(const struct collector *c, const char *type, double elapsed)
+static json_t *json_common(const struct collector *c, const struct supervisor *sv,
+			   const char *type, double elapsed)
 {
 	char when[40];
 
 	fmt_time(c, mono_now(), when, sizeof(when));
-	return json_pack("{s:s,s:s,s:f,s:I,s:I,s:I}", "type", type, "time", when,
+	return json_pack("{s:s,s:s,s:f,s:I,s:I,s:I,s:I,s:{s:o,s:s}}", "type", type, "time", when,
 			 "elapsed_s", elapsed,
 			 "lost_events", (json_int_t)c->counters[RTSUP_C_RB_DROPS],
+			 "lost_cycle_records", (json_int_t)c->counters[RTSUP_C_CYC_DROPS],
 			 "untracked_threads", (json_int_t)c->counters[RTSUP_C_MAP_FULL],
-			 "untracked_syscall_counts", (json_int_t)c->counters[RTSUP_C_SYS_FULL]);
+			 "untracked_syscall_counts", (json_int_t)c->counters[RTSUP_C_SYS_FULL],
+			 "supervisor", "status", json_status(&sv->self), "worst_level",
+			 level_name(sv->self_worst));
 }
 
 /* json_print - one object, one line, flushed */
@@ -168,16 +190,17 @@ static void json_print(json_t *o)
 	json_decref(o);
 }
 
-static void json_interval(const struct collector *c, double elapsed, double interval)
+static void json_interval(const struct collector *c, const struct supervisor *sv,
+			  double elapsed, double interval)
 {
-	json_t *o = json_common(c, "interval", elapsed), *th = json_array(),
+	json_t *o = json_common(c, sv, "interval", elapsed), *th = json_array(),
 	       *ev = json_array();
 	int i;
 
 	json_object_set_new(o, "interval_s", json_real(interval));
 	for (i = 0; i < c->model.n; i++)
 		if (!c->model.t[i].reported_exit)
-			json_array_append_new(th, json_thread(c, &c->model.t[i], true));
+			json_array_append_new(th, json_thread(c, sv, &c->model.t[i], true));
 	for (i = 0; i < c->nevents; i++)
 		json_array_append_new(ev, json_event(c, &c->events[i]));
 	json_object_set_new(o, "threads", th);
@@ -186,15 +209,29 @@ static void json_interval(const struct collector *c, double elapsed, double inte
 	json_print(o);
 }
 
-static void json_summary(const struct collector *c, double elapsed)
+static void json_summary(const struct collector *c, const struct supervisor *sv,
+			 double elapsed)
 {
-	json_t *o = json_common(c, "summary", elapsed), *th = json_array();
+	json_t *o = json_common(c, sv, "summary", elapsed), *th = json_array(),
+	       *vs = json_array();
+	char when[40];
 	int i;
 
 	json_object_set_new(o, "events_total", json_integer(c->events_total));
 	for (i = 0; i < c->model.n; i++)
-		json_array_append_new(th, json_thread(c, &c->model.t[i], false));
+		json_array_append_new(th, json_thread(c, sv, &c->model.t[i], false));
 	json_object_set_new(o, "threads", th);
+	for (i = 0; i < sv->nv; i++) {
+		fmt_time(c, sv->v[i].mono_ns, when, sizeof(when));
+		json_array_append_new(vs, json_pack("{s:s,s:s,s:s,s:s}", "time", when,
+						    "component", sv->v[i].component, "level",
+						    level_name(sv->v[i].level), "what",
+						    sv->v[i].what));
+	}
+	json_object_set_new(o, "violations", vs);
+	json_object_set_new(o, "violations_not_listed", json_integer(sv->v_dropped));
+	json_object_set_new(o, "worst_level",
+			    json_string(level_name(supervise_worst(sv, &c->model))));
 	json_print(o);
 }
 
@@ -212,14 +249,15 @@ static void us(char *buf, size_t len, __u64 count, double ns)
 static void table_header(const char *title)
 {
 	printf("%s\n", title);
-	printf("%7s %-15s %-9s %7s %17s %26s %26s %5s %6s %13s\n", "", "", "", "",
-	       "PERIOD (us)", "EXEC (us)", "LATENCY (us)", "", "", "");
-	printf("%7s %-15s %-9s %7s %8s %8s %8s %8s %8s %8s %8s %8s %5s %6s %13s\n", "TID",
+	printf("%7s %-15s %-9s %7s %17s %26s %26s %5s %6s %13s %s\n", "", "", "", "",
+	       "PERIOD (us)", "EXEC (us)", "LATENCY (us)", "", "", "", "");
+	printf("%7s %-15s %-9s %7s %8s %8s %8s %8s %8s %8s %8s %8s %5s %6s %13s %s\n", "TID",
 	       "COMM", "POL/PRI", "CYCLES", "avg", "max", "avg", "p99", "max", "avg", "p99",
-	       "max", "MISS", "UNSAFE", "CSW vol/inv");
+	       "max", "MISS", "UNSAFE", "CSW vol/inv", "STATUS");
 }
 
-static void table_row(const struct thread_model *tm, const struct span_view *s, bool color)
+static void table_row(const struct thread_model *tm, const struct span_view *s,
+		      enum level level, bool color)
 {
 	char pol[16], c[9][16], csw[32];
 	const struct metric_view *p = &s->m[RTSUP_M_PERIOD], *e = &s->m[RTSUP_M_EXEC],
@@ -241,17 +279,17 @@ static void table_row(const struct thread_model *tm, const struct span_view *s, 
 	us(c[7], 16, l->count, l->max);
 	snprintf(csw, sizeof(csw), "%llu/%llu", (unsigned long long)s->vol_cs,
 		 (unsigned long long)s->invol_cs);
-	if (color && s->misses) {
+	if (color && level == LEVEL_ERROR) {
 		on = "\033[31m";
 		off = "\033[0m";
-	} else if (color && s->unsafe_total) {
+	} else if (color && level == LEVEL_WARN) {
 		on = "\033[33m";
 		off = "\033[0m";
 	}
-	printf("%s%7u %-15.15s %-9s %7llu %8s %8s %8s %8s %8s %8s %8s %8s %5llu %6llu %13s%s\n",
+	printf("%s%7u %-15.15s %-9s %7llu %8s %8s %8s %8s %8s %8s %8s %8s %5llu %6llu %13s %s%s\n",
 	       on, tm->tid, tm->comm, pol, (unsigned long long)s->cycles, c[0], c[1], c[2],
 	       c[3], c[4], c[5], c[6], c[7], (unsigned long long)s->misses,
-	       (unsigned long long)s->unsafe_total, csw, off);
+	       (unsigned long long)s->unsafe_total, csw, level_name(level), off);
 }
 
 /* table_event - one line per rare event */
@@ -285,7 +323,26 @@ static void table_event(const struct collector *c, const struct rtsup_event *e)
 	printf("  %s %7u %-15.15s %s\n", when + 11, e->tid, e->comm, what);
 }
 
-static void table_interval(const struct collector *c, double elapsed, double interval)
+/* table_messages - why each component is not OK, under the table */
+static void table_messages(const struct collector *c, const struct supervisor *sv)
+{
+	int i, j;
+
+	for (i = 0; i < c->model.n; i++) {
+		const struct thread_model *tm = &c->model.t[i];
+
+		if (tm->reported_exit || !tm->st.nmsg)
+			continue;
+		for (j = 0; j < tm->st.nmsg; j++)
+			printf("  %-5s %s[%u]: %s\n", level_name(tm->st.level), tm->comm, tm->tid,
+			       tm->st.msg[j]);
+	}
+	for (j = 0; j < sv->self.nmsg; j++)
+		printf("  %-5s rtsup-trace: %s\n", level_name(sv->self.level), sv->self.msg[j]);
+}
+
+static void table_interval(const struct collector *c, const struct supervisor *sv,
+			   double elapsed, double interval)
 {
 	bool color = use_color(c->o);
 	struct span_view s;
@@ -305,8 +362,9 @@ static void table_interval(const struct collector *c, double elapsed, double int
 		if (tm->reported_exit)
 			continue;
 		span_window(&tm->cur, tm->have_prev ? &tm->prev : NULL, c->bank, &s);
-		table_row(tm, &s, color);
+		table_row(tm, &s, tm->st.level, color);
 	}
+	table_messages(c, sv);
 	for (i = 0; i < c->nevents && shown < MAX_EVENT_LINES; i++) {
 		/* new-thread notices are noise in a live table */
 		if (c->events[i].type == RTSUP_EV_NEW)
@@ -321,8 +379,10 @@ static void table_interval(const struct collector *c, double elapsed, double int
 	fflush(stdout);
 }
 
-static void table_summary(const struct collector *c, double elapsed)
+static void table_summary(const struct collector *c, const struct supervisor *sv,
+			  double elapsed)
 {
+	char when[40];
 	struct span_view s;
 	char title[200];
 	int i, j;
@@ -336,7 +396,7 @@ static void table_summary(const struct collector *c, double elapsed)
 	table_header(title);
 	for (i = 0; i < c->model.n; i++) {
 		span_life(&c->model.t[i].cur, &s);
-		table_row(&c->model.t[i], &s, use_color(c->o));
+		table_row(&c->model.t[i], &s, c->model.t[i].worst, use_color(c->o));
 	}
 	/* why each thread lost RT safety, by reason and by syscall */
 	for (i = 0; i < c->model.n; i++) {
@@ -356,23 +416,33 @@ static void table_summary(const struct collector *c, double elapsed)
 			       (unsigned long long)tm->sys[j].total);
 		printf("\n");
 	}
+	/* every violation, with when and what */
+	printf("verdict: %s", level_name(supervise_worst(sv, &c->model)));
+	printf(" (%d violations%s)\n", sv->nv + (int)sv->v_dropped,
+	       sv->v_dropped ? ", not all listed" : "");
+	for (i = 0; i < sv->nv; i++) {
+		fmt_time(c, sv->v[i].mono_ns, when, sizeof(when));
+		printf("  %s %-5s %s: %s\n", when + 11, level_name(sv->v[i].level),
+		       sv->v[i].component, sv->v[i].what);
+	}
 	fflush(stdout);
 }
 
-void output_interval(const struct collector *c, double elapsed, double interval)
+void output_interval(const struct collector *c, const struct supervisor *s, double elapsed,
+		     double interval)
 {
 	if (c->o->json)
-		json_interval(c, elapsed, interval);
+		json_interval(c, s, elapsed, interval);
 	else
-		table_interval(c, elapsed, interval);
+		table_interval(c, s, elapsed, interval);
 }
 
-void output_summary(const struct collector *c, double elapsed)
+void output_summary(const struct collector *c, const struct supervisor *s, double elapsed)
 {
 	if (c->o->json)
-		json_summary(c, elapsed);
+		json_summary(c, s, elapsed);
 	else
-		table_summary(c, elapsed);
+		table_summary(c, s, elapsed);
 }
 
 void output_error(const struct options *o, const char *msg)

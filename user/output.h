@@ -8,11 +8,13 @@
 
 #include <stdbool.h>
 #include "collector.h"
+#include "supervise.h"
 
 /* output_interval - report the interval that collector_sample just ended */
-void output_interval(const struct collector *c, double elapsed, double interval);
+void output_interval(const struct collector *c, const struct supervisor *s, double elapsed,
+		     double interval);
 /* output_summary - the final report over the whole run */
-void output_summary(const struct collector *c, double elapsed);
+void output_summary(const struct collector *c, const struct supervisor *s, double elapsed);
 /* output_error - an error line: JSON on stdout in JSON mode, always stderr */
 void output_error(const struct options *o, const char *msg);
 

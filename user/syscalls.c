@@ -130,9 +130,11 @@ int sysclass_build(__u32 *table, size_t n, const char *const *delims,
 			snprintf(err, errlen, "unknown syscall '%s'", delims[d]);
 			return -1;
 		}
-		/* the delimiter is the cycle boundary, never a fault */
-		table[nr] = (table[nr] & ~(RTSUP_SC_UNSAFE | RTSUP_SC_FDCHECK)) |
-			    RTSUP_SC_DELIM;
+		/*
+		 * the delimiter is the cycle boundary, never a fault; the class
+		 * bits stay for threads whose rules pick another delimiter
+		 */
+		table[nr] |= RTSUP_SC_DELIM;
 	}
 	return 0;
 }

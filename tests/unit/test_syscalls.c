@@ -96,8 +96,11 @@ static void test_syscalls_sysclass_default(void **state)
 	assert_int_equal(cls(s, "mmap"), RTSUP_SC_UNSAFE);
 	assert_int_equal(cls(s, "openat"), RTSUP_SC_UNSAFE);
 	assert_int_equal(cls(s, "write"), RTSUP_SC_UNSAFE | RTSUP_SC_FDCHECK);
-	assert_int_equal(cls(s, "clock_nanosleep"), RTSUP_SC_DELIM | RTSUP_SC_ABSSLEEP);
-	assert_int_equal(cls(s, "nanosleep"), RTSUP_SC_DELIM | RTSUP_SC_RELSLEEP);
+	/* the class stays: a rule may choose another delimiter for a thread */
+	assert_int_equal(cls(s, "clock_nanosleep"),
+			 RTSUP_SC_DELIM | RTSUP_SC_ABSSLEEP | RTSUP_SC_UNSAFE);
+	assert_int_equal(cls(s, "nanosleep"),
+			 RTSUP_SC_DELIM | RTSUP_SC_RELSLEEP | RTSUP_SC_UNSAFE);
 	assert_int_equal(cls(s, "getpid"), 0);
 	assert_int_equal(cls(s, "epoll_pwait"), 0);
 }
@@ -119,7 +122,7 @@ static void test_syscalls_sysclass_epoll(void **state)
 	assert_int_equal(cls(s, "mmap"), RTSUP_SC_UNSAFE);
 }
 
-/* a delimiter that is itself in the unsafe table loses UNSAFE/FDCHECK */
+/* a delimiter keeps its class bits; DELIM wins in the kernel */
 static void test_syscalls_sysclass_unsafe_delim(void **state)
 {
 	static const char *const delims[] = { "write" };
@@ -127,7 +130,7 @@ static void test_syscalls_sysclass_unsafe_delim(void **state)
 
 	assert_int_equal(sysclass_build(s->table, RTSUP_MAX_SYSCALLS, delims, 1,
 					s->err, sizeof(s->err)), 0);
-	assert_int_equal(cls(s, "write"), RTSUP_SC_DELIM);
+	assert_int_equal(cls(s, "write"), RTSUP_SC_DELIM | RTSUP_SC_UNSAFE | RTSUP_SC_FDCHECK);
 }
 
 /* an unknown delimiter is an error naming it */

@@ -1,0 +1,1240 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/*
+ * config.c - the YAML configuration file: defaults, rules, matching.
+ *
+ * libyaml builds the document tree; this file only walks it. Every key a
+ * rule or the defaults may give is described once, in the field tables
+ * below: the same tables parse, merge and print, so the printed form reads
+ * back to the same configuration.
+ */
+#include <errno.h>
+#include <fnmatch.h>
+#include <math.h>
+#include <sched.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <yaml.h>
+#include "config.h"
+#include "syscalls.h"
+
+#ifndef SCHED_DEADLINE
+#define SCHED_DEADLINE 6
+#endif
+
+#define NS_PER_S	1000000000ULL
+#define MAX_DURATION_NS	(1e18)		/* about 31 years: no overflow in __u64 */
+#define MAX_FILE_SIZE	(1 << 20)
+#define SYSNAME_LEN	32
+/* no more than a thread's settings in the kernel hold (struct rtsup_thread_cfg) */
+#define MAX_DELIMS	RTSUP_CFG_DELIMS
+#define MAX_LIST	RTSUP_CFG_SYSCALLS
+#define CGROUP_FS	"/sys/fs/cgroup"
+
+_Static_assert(MAX_DELIMS <= CONFIG_MAX_SYSCALLS && MAX_LIST <= CONFIG_MAX_SYSCALLS,
+	       "struct rule holds the lists");
+
+enum ftype {
+	F_END,
+	F_DURATION,	/* __u64 ns: "1ms", "250us", "0" */
+	F_SECONDS,	/* double s, written as a duration */
+	F_COUNT,	/* __u64 whole number */
+	F_NUMBER,	/* double >= 0, e.g. periods */
+	F_RATIO,	/* double ratio: "80%" or 0.8, up to .max */
+	F_PERCENT,	/* double percent: "1%" or 0.01, up to .max percent */
+	F_EWMA,		/* double 0 < w <= 1 */
+	F_BOOL,
+	F_STAT,		/* enum exec_stat */
+	F_POLICY,	/* int SCHED_*, -1 any */
+	F_PRIO,		/* int 1..99, -1 any */
+	F_SYSLIST,	/* char [][32] at .off, int count at .off2 */
+	F_GROUP,	/* nested map, keys in .sub */
+};
+
+struct field {
+	const char *key;
+	enum ftype type;
+	size_t off;		/* from the start of struct rule */
+	size_t off2;
+	double max;
+	__u32 flag;		/* RF_* bit the key sets */
+	const struct field *sub;
+	const char *what;	/* what an unknown key of a group is, "key" if NULL */
+};
+
+#define R(m)	offsetof(struct rule, m)
+#define TH(m)	(offsetof(struct rule, th) + offsetof(struct thresholds, m))
+#define UE(i)	TH(unsafe_error[i])
+
+static const struct field miss_f[] = {
+	{ .key = "warn", .type = F_COUNT, .off = TH(miss_warn) },
+	{ .key = "error_rate", .type = F_RATIO, .off = TH(miss_error_rate), .max = 1 },
+	{},
+};
+
+static const struct field exec_f[] = {
+	{ .key = "warn", .type = F_RATIO, .off = TH(exec_warn_ratio), .max = 10 },
+	{ .key = "stat", .type = F_STAT, .off = TH(exec_stat) },
+	{},
+};
+
+static const struct field starve_f[] = {
+	{ .key = "warn_periods", .type = F_NUMBER, .off = TH(starve_warn_periods) },
+	{ .key = "error_periods", .type = F_NUMBER, .off = TH(starve_error_periods) },
+	{},
+};
+
+/* the reason names of unsafe_reason_name() in model.c */
+static const struct field unsafe_error_f[] = {
+	{ .key = "syscall", .type = F_COUNT, .off = UE(RTSUP_U_SYSCALL) },
+	{ .key = "minor_fault", .type = F_COUNT, .off = UE(RTSUP_U_MINFLT) },
+	{ .key = "major_fault", .type = F_COUNT, .off = UE(RTSUP_U_MAJFLT) },
+	{ .key = "block", .type = F_COUNT, .off = UE(RTSUP_U_BLOCK) },
+	{ .key = "migration", .type = F_COUNT, .off = UE(RTSUP_U_MIGRATE) },
+	{},
+};
+
+static const struct field unsafe_f[] = {
+	{ .key = "warn", .type = F_COUNT, .off = TH(unsafe_warn) },
+	{ .key = "error", .type = F_GROUP, .sub = unsafe_error_f, .what = "unsafe reason" },
+	{},
+};
+
+static const struct field latency_f[] = {
+	{ .key = "p99_warn", .type = F_DURATION, .off = TH(latency_p99_warn_ns) },
+	{ .key = "max_warn", .type = F_DURATION, .off = TH(latency_max_warn_ns) },
+	{ .key = "max_error", .type = F_DURATION, .off = TH(latency_max_error_ns) },
+	{},
+};
+
+static const struct field jitter_f[] = {
+	{ .key = "warn", .type = F_DURATION, .off = TH(jitter_warn_ns) },
+	{ .key = "error", .type = F_DURATION, .off = TH(jitter_error_ns) },
+	{},
+};
+
+static const struct field overhead_f[] = {
+	{ .key = "warn", .type = F_PERCENT, .off = TH(overhead_warn_pct), .max = 100 },
+	{ .key = "error", .type = F_PERCENT, .off = TH(overhead_error_pct), .max = 100 },
+	{},
+};
+
+static const struct field thresholds_f[] = {
+	{ .key = "init_timeout", .type = F_SECONDS, .off = TH(init_timeout_s) },
+	{ .key = "deadline_miss", .type = F_GROUP, .sub = miss_f },
+	{ .key = "exec_near_period", .type = F_GROUP, .sub = exec_f },
+	{ .key = "starvation", .type = F_GROUP, .sub = starve_f },
+	{ .key = "unsafe", .type = F_GROUP, .sub = unsafe_f },
+	{ .key = "latency", .type = F_GROUP, .sub = latency_f },
+	{ .key = "jitter", .type = F_GROUP, .sub = jitter_f },
+	{ .key = "overhead", .type = F_GROUP, .sub = overhead_f },
+	{ .key = "lifetime", .type = F_BOOL, .off = TH(lifetime) },
+	{},
+};
+
+/* the keys of defaults:, and of a rule besides name and match */
+static const struct field rule_f[] = {
+	{ .key = "period", .type = F_DURATION, .off = R(period_ns), .flag = RF_PERIOD },
+	{ .key = "ewma_weight", .type = F_EWMA, .off = R(ewma_weight), .flag = RF_EWMA },
+	{ .key = "cycle_syscalls", .type = F_SYSLIST, .off = R(delims), .off2 = R(ndelims),
+	  .max = MAX_DELIMS, .flag = RF_DELIMS },
+	{ .key = "policy", .type = F_POLICY, .off = R(policy), .flag = RF_POLICY },
+	{ .key = "priority", .type = F_PRIO, .off = R(prio), .flag = RF_PRIO },
+	{ .key = "allow_syscalls", .type = F_SYSLIST, .off = R(allow), .off2 = R(nallow),
+	  .max = MAX_LIST, .flag = RF_ALLOW },
+	{ .key = "forbid_syscalls", .type = F_SYSLIST, .off = R(forbid), .off2 = R(nforbid),
+	  .max = MAX_LIST, .flag = RF_FORBID },
+	{ .key = "thresholds", .type = F_GROUP, .sub = thresholds_f },
+	{},
+};
+
+static const struct {
+	const char *name;
+	int policy;
+} policies[] = {
+	{ "SCHED_OTHER", SCHED_OTHER },
+	{ "SCHED_FIFO", SCHED_FIFO },
+	{ "SCHED_RR", SCHED_RR },
+	{ "SCHED_BATCH", SCHED_BATCH },
+	{ "SCHED_IDLE", SCHED_IDLE },
+	{ "SCHED_DEADLINE", SCHED_DEADLINE },
+};
+
+#define NPOLICIES (int)(sizeof(policies) / sizeof(policies[0]))
+
+/* State of one config_load. */
+struct parse {
+	const char *file;
+	yaml_document_t *doc;
+	char *err;
+	size_t errlen;
+	char where[CONFIG_NAME_LEN + 16];	/* "defaults" or "rule 'x'" */
+	bool rule;				/* in a rule: name and match allowed */
+};
+
+/* fail - write "file:line:column: message" for a node, return -1 */
+static int __attribute__((format(printf, 3, 4)))
+fail(struct parse *p, const yaml_node_t *n, const char *fmt, ...)
+{
+	char msg[256];
+	va_list ap;
+
+	va_start(ap, fmt);
+	vsnprintf(msg, sizeof(msg), fmt, ap);
+	va_end(ap);
+	snprintf(p->err, p->errlen, "%s:%zu:%zu: %s", p->file,
+		 n->start_mark.line + 1, n->start_mark.column + 1, msg);
+	return -1;
+}
+
+/* kind - a node type in words, for type errors */
+static const char *kind(const yaml_node_t *n)
+{
+	switch (n->type) {
+	case YAML_MAPPING_NODE:
+		return "a map";
+	case YAML_SEQUENCE_NODE:
+		return "a list";
+	default:
+		return "a scalar";
+	}
+}
+
+/* text - the value of a scalar node (NUL-terminated by libyaml) */
+static const char *text(const yaml_node_t *n)
+{
+	return (const char *)n->data.scalar.value;
+}
+
+/* is_null - an empty plain scalar or ~/null: an absent value */
+static bool is_null(const yaml_node_t *n)
+{
+	const char *s;
+
+	if (n->type != YAML_SCALAR_NODE || n->data.scalar.style != YAML_PLAIN_SCALAR_STYLE)
+		return false;
+	s = text(n);
+	return !*s || !strcmp(s, "~") || !strcmp(s, "null") || !strcmp(s, "Null") ||
+	       !strcmp(s, "NULL");
+}
+
+/* want - check a node's type; a null stands for an empty map or list */
+static int want(struct parse *p, const yaml_node_t *n, yaml_node_type_t type,
+		const char *key)
+{
+	static const char *const names[] = {
+		[YAML_SCALAR_NODE] = "a scalar",
+		[YAML_SEQUENCE_NODE] = "a list",
+		[YAML_MAPPING_NODE] = "a map",
+	};
+
+	if (n->type == type || (type != YAML_SCALAR_NODE && is_null(n)))
+		return 0;
+	return fail(p, n, "%s must be %s, not %s", key, names[type], kind(n));
+}
+
+/* node - a node of the document by index */
+static yaml_node_t *node(struct parse *p, int i)
+{
+	return yaml_document_get_node(p->doc, i);
+}
+
+/* npairs - number of pairs of a map node, 0 for a null */
+static int npairs(const yaml_node_t *n)
+{
+	if (n->type != YAML_MAPPING_NODE)
+		return 0;
+	return n->data.mapping.pairs.top - n->data.mapping.pairs.start;
+}
+
+/*
+ * pair - key and value of the i-th pair of a map; keys must be scalars and
+ * unique (libyaml does not check that, and a repeated key is a typo)
+ */
+static int pair(struct parse *p, yaml_node_t *map, int i, yaml_node_t **k,
+		yaml_node_t **v, const char *in)
+{
+	yaml_node_pair_t *pp = map->data.mapping.pairs.start;
+	int j;
+
+	*k = node(p, pp[i].key);
+	*v = node(p, pp[i].value);
+	if ((*k)->type != YAML_SCALAR_NODE)
+		return fail(p, *k, "keys must be scalars, not %s", kind(*k));
+	for (j = 0; j < i; j++) {
+		yaml_node_t *o = node(p, pp[j].key);
+
+		if (o->type == YAML_SCALAR_NODE && !strcmp(text(o), text(*k)))
+			return fail(p, *k, "duplicate key '%s' %s", text(*k), in);
+	}
+	return 0;
+}
+
+/* scalar - the text of a node that must be a scalar */
+static int scalar(struct parse *p, const yaml_node_t *n, const char *key,
+		  const char **s)
+{
+	if (want(p, n, YAML_SCALAR_NODE, key))
+		return -1;
+	*s = text(n);
+	return 0;
+}
+
+/* numeric - strtod over a plain decimal number only (no hex, inf, nan) */
+static int numeric(const char *s, double *v, char **end)
+{
+	size_t n = strspn(s, "0123456789.eE+-");
+
+	if (!n || (*s != '.' && *s != '+' && (*s < '0' || *s > '9')))
+		return -1;
+	errno = 0;
+	*v = strtod(s, end);
+	if (errno || *end == s || (size_t)(*end - s) > n || !isfinite(*v))
+		return -1;
+	return 0;
+}
+
+/* parse_duration_ns - "1ms", "100us", "5s", "5m", "1h", "500ns" or "0" */
+static int parse_duration_ns(const char *s, __u64 *ns)
+{
+	static const struct {
+		const char *unit;
+		double mult;
+	} units[] = {
+		{ "ns", 1 }, { "us", 1e3 }, { "ms", 1e6 },
+		{ "s", 1e9 }, { "m", 60e9 }, { "h", 3600e9 },
+	};
+	char *end;
+	double v;
+	size_t i;
+
+	if (numeric(s, &v, &end) || v < 0)
+		return -1;
+	/* a bare number is ambiguous (s? ns?); only 0 needs no unit */
+	if (!*end && v == 0) {
+		*ns = 0;
+		return 0;
+	}
+	for (i = 0; i < sizeof(units) / sizeof(units[0]); i++) {
+		if (strcmp(end, units[i].unit))
+			continue;
+		if (v * units[i].mult > MAX_DURATION_NS)
+			return -1;
+		*ns = (__u64)llround(v * units[i].mult);
+		return 0;
+	}
+	return -1;
+}
+
+/*
+ * parse_ratio - "80%" or a plain ratio 0.8, as a ratio or as a percentage;
+ * only one operation on the number, so printing it back is exact
+ */
+static int parse_ratio(const char *s, bool want_pct, double *r)
+{
+	bool pct;
+	char *end;
+	double v;
+
+	if (numeric(s, &v, &end))
+		return -1;
+	pct = !strcmp(end, "%");
+	if (!pct && *end)
+		return -1;
+	if (pct != want_pct)
+		v = pct ? v / 100 : v * 100;
+	*r = v;
+	return 0;
+}
+
+/* parse_count - a whole number >= 0 */
+static int parse_count(const char *s, __u64 *v)
+{
+	size_t n = strspn(s, "0123456789");
+
+	if (!n || s[n])
+		return -1;
+	errno = 0;
+	*v = strtoull(s, NULL, 10);
+	return errno ? -1 : 0;
+}
+
+/* parse_bool - the YAML 1.1 spellings of true and false */
+static int parse_bool(const char *s, bool *b)
+{
+	static const char *const yes[] = { "true", "yes", "on" };
+	static const char *const no[] = { "false", "no", "off" };
+	size_t i;
+
+	for (i = 0; i < 3; i++) {
+		if (!strcasecmp(s, yes[i]) || !strcasecmp(s, no[i])) {
+			*b = !strcasecmp(s, yes[i]);
+			return 0;
+		}
+	}
+	return -1;
+}
+
+/* parse_policy - SCHED_FIFO or FIFO (any case), or any */
+static int parse_policy(const char *s, int *policy)
+{
+	int i;
+
+	if (!strcasecmp(s, "any")) {
+		*policy = -1;
+		return 0;
+	}
+	for (i = 0; i < NPOLICIES; i++) {
+		if (!strcasecmp(s, policies[i].name) || !strcasecmp(s, policies[i].name + 6)) {
+			*policy = policies[i].policy;
+			return 0;
+		}
+	}
+	return -1;
+}
+
+/* parse_syslist - a list of syscall names known on this architecture */
+static int parse_syslist(struct parse *p, const struct field *f, yaml_node_t *v,
+			 struct rule *r)
+{
+	char (*names)[SYSNAME_LEN] = (void *)((char *)r + f->off);
+	int *count = (int *)((char *)r + f->off2);
+	yaml_node_item_t *it;
+	int n = 0;
+
+	if (want(p, v, YAML_SEQUENCE_NODE, f->key))
+		return -1;
+	if (v->type == YAML_SEQUENCE_NODE) {
+		for (it = v->data.sequence.items.start; it < v->data.sequence.items.top; it++) {
+			yaml_node_t *e = node(p, *it);
+			const char *s;
+
+			if (scalar(p, e, "a syscall name", &s))
+				return -1;
+			if (n == (int)f->max)
+				return fail(p, e, "too many syscalls in %s (at most %d)", f->key,
+					    (int)f->max);
+			if (strlen(s) >= SYSNAME_LEN || syscall_nr(s) < 0)
+				return fail(p, e, "unknown syscall '%s' in %s", s, f->key);
+			snprintf(names[n++], SYSNAME_LEN, "%s", s);
+		}
+	}
+	/* the cycle needs an end; the command line refuses an empty list too */
+	if (!n && f->flag == RF_DELIMS)
+		return fail(p, v, "%s must not be empty", f->key);
+	*count = n;
+	return 0;
+}
+
+static int parse_group(struct parse *p, const struct field *fields, yaml_node_t *map,
+		       struct rule *r, const char *path, const char *what);
+
+/* parse_number - a double field: F_NUMBER, F_RATIO, F_PERCENT, F_EWMA */
+static int parse_number(struct parse *p, const struct field *f, yaml_node_t *v,
+			const char *name, double *d)
+{
+	const char *s = text(v);
+	char *end;
+	double x;
+
+	switch (f->type) {
+	case F_NUMBER:
+		if (numeric(s, &x, &end) || *end || x < 0)
+			return fail(p, v, "bad number '%s' (want a number >= 0)", s);
+		break;
+	case F_EWMA:
+		if (numeric(s, &x, &end) || *end)
+			return fail(p, v, "bad number '%s' (want 0 < w <= 1)", s);
+		if (x <= 0 || x > 1)
+			return fail(p, v, "%s '%s' out of range (want 0 < w <= 1)", name, s);
+		break;
+	default:	/* F_RATIO, F_PERCENT: .max in the stored unit */
+		if (parse_ratio(s, f->type == F_PERCENT, &x))
+			return fail(p, v, "bad percentage '%s' (want e.g. 80%% or 0.8)", s);
+		if (x < 0 || x > f->max)
+			return fail(p, v, "%s '%s' out of range (want 0..%g%%)", name, s,
+				    f->type == F_RATIO ? f->max * 100 : f->max);
+		break;
+	}
+	*d = x;
+	return 0;
+}
+
+/* parse_field - one key's value into the rule */
+static int parse_field(struct parse *p, const struct field *f, yaml_node_t *v,
+		       struct rule *r, const char *path)
+{
+	void *dst = (char *)r + f->off;
+	const char *s;
+	char name[64];
+	__u64 u;
+
+	/* the dotted name, e.g. thresholds.latency.max_error, for messages */
+	snprintf(name, sizeof(name), "%s%s%s", path, *path ? "." : "", f->key);
+	if (f->type == F_GROUP)
+		return parse_group(p, f->sub, v, r, name, f->what);
+	if (f->type == F_SYSLIST)
+		return parse_syslist(p, f, v, r);
+	if (scalar(p, v, name, &s))
+		return -1;
+	switch (f->type) {
+	case F_DURATION:
+	case F_SECONDS:
+		if (parse_duration_ns(s, &u))
+			return fail(p, v, "bad duration '%s' (want e.g. 1ms)", s);
+		if (f->type == F_DURATION)
+			*(__u64 *)dst = u;
+		else
+			*(double *)dst = (double)u / NS_PER_S;
+		return 0;
+	case F_COUNT:
+		if (parse_count(s, dst))
+			return fail(p, v, "bad count '%s' (want a whole number >= 0)", s);
+		return 0;
+	case F_BOOL:
+		if (parse_bool(s, dst))
+			return fail(p, v, "bad boolean '%s' (want true or false)", s);
+		return 0;
+	case F_STAT:
+		if (strcmp(s, "p99") && strcmp(s, "ewma"))
+			return fail(p, v, "unknown stat '%s' (want p99 or ewma)", s);
+		*(enum exec_stat *)dst = strcmp(s, "p99") ? EXEC_STAT_EWMA : EXEC_STAT_P99;
+		return 0;
+	case F_POLICY:
+		if (parse_policy(s, dst))
+			return fail(p, v, "unknown policy '%s' (want SCHED_FIFO, SCHED_RR, "
+				    "SCHED_DEADLINE, SCHED_OTHER, SCHED_BATCH, SCHED_IDLE or any)", s);
+		return 0;
+	case F_PRIO:
+		if (!strcasecmp(s, "any")) {
+			*(int *)dst = -1;
+			return 0;
+		}
+		if (parse_count(s, &u))
+			return fail(p, v, "bad priority '%s' (want 1..99 or any)", s);
+		if (u < 1 || u > 99)
+			return fail(p, v, "priority '%s' out of range (want 1..99 or any)", s);
+		*(int *)dst = (int)u;
+		return 0;
+	default:
+		return parse_number(p, f, v, name, dst);
+	}
+}
+
+/* key_list - "a, b or c": the keys of a table, to say what is allowed */
+static void key_list(const struct field *f, char *buf, size_t len)
+{
+	size_t o = 0;
+
+	buf[0] = '\0';
+	for (; f->key && o < len; f++)
+		o += snprintf(buf + o, len - o, "%s%s", o ? (f[1].key ? ", " : " or ") : "",
+			      f->key);
+}
+
+/* lookup - the field of a key in a table, NULL if unknown */
+static const struct field *lookup(const struct field *fields, const char *key)
+{
+	for (; fields->key; fields++)
+		if (!strcmp(fields->key, key))
+			return fields;
+	return NULL;
+}
+
+/* in_where - "in rule 'x'" or "in thresholds.latency of rule 'x'" */
+static void in_where(const struct parse *p, const char *path, char *in, size_t len)
+{
+	if (*path)
+		snprintf(in, len, "in %s of %s", path, p->where);
+	else
+		snprintf(in, len, "in %s", p->where);
+}
+
+/*
+ * parse_group - a map of keys of one field table, over the rule's values;
+ * path is where the map is ("" for the rule itself), what names its keys
+ */
+static int parse_group(struct parse *p, const struct field *fields, yaml_node_t *map,
+		       struct rule *r, const char *path, const char *what)
+{
+	const struct field *f;
+	yaml_node_t *k, *v;
+	char in[160], keys[160];
+	int i;
+
+	in_where(p, path, in, sizeof(in));
+	if (want(p, map, YAML_MAPPING_NODE, *path ? path : p->where))
+		return -1;
+	for (i = 0; i < npairs(map); i++) {
+		if (pair(p, map, i, &k, &v, in))
+			return -1;
+		/* name and match are a rule's own keys, handled by parse_rule */
+		if (p->rule && !*path &&
+		    (!strcmp(text(k), "name") || !strcmp(text(k), "match")))
+			continue;
+		f = lookup(fields, text(k));
+		if (!f && what) {
+			key_list(fields, keys, sizeof(keys));
+			return fail(p, k, "unknown %s '%s' %s (want %s)", what, text(k), in,
+				    keys);
+		}
+		if (!f)
+			return fail(p, k, "unknown key '%s' %s", text(k), in);
+		if (parse_field(p, f, v, r, path))
+			return -1;
+		r->set |= f->flag;
+	}
+	return 0;
+}
+
+/* copy_str - a string field of limited length */
+static int copy_str(struct parse *p, yaml_node_t *v, const char *key, char *dst,
+		    size_t len)
+{
+	const char *s;
+
+	if (scalar(p, v, key, &s))
+		return -1;
+	if (!*s)
+		return fail(p, v, "%s must not be empty", key);
+	if (strlen(s) >= len)
+		return fail(p, v, "%s too long (at most %zu characters)", key, len - 1);
+	memcpy(dst, s, strlen(s) + 1);
+	return 0;
+}
+
+/* cgroup_below - path equals prefix or is below it at a '/' boundary */
+static bool cgroup_below(const char *path, const char *prefix)
+{
+	size_t n = strlen(prefix);
+
+	if (!strcmp(prefix, "/"))
+		return path[0] == '/';
+	return !strncmp(path, prefix, n) && (path[n] == '\0' || path[n] == '/');
+}
+
+/* parse_match - process, thread and cgroup of a rule's match: */
+static int parse_match(struct parse *p, yaml_node_t *map, struct rule *r)
+{
+	char in[160];
+	yaml_node_t *k, *v;
+	size_t n;
+	int i;
+
+	snprintf(in, sizeof(in), "in match of %s", p->where);
+	if (want(p, map, YAML_MAPPING_NODE, "match"))
+		return -1;
+	for (i = 0; i < npairs(map); i++) {
+		if (pair(p, map, i, &k, &v, in))
+			return -1;
+		if (!strcmp(text(k), "process")) {
+			if (copy_str(p, v, "process", r->match_process, CONFIG_NAME_LEN))
+				return -1;
+		} else if (!strcmp(text(k), "thread")) {
+			if (copy_str(p, v, "thread", r->match_thread, CONFIG_NAME_LEN))
+				return -1;
+		} else if (!strcmp(text(k), "cgroup")) {
+			if (copy_str(p, v, "cgroup", r->match_cgroup, CONFIG_PATH_LEN))
+				return -1;
+			if (r->match_cgroup[0] != '/')
+				return fail(p, v, "cgroup '%s' is not a path (want e.g. "
+					    "/robot.slice)", r->match_cgroup);
+			/* threads carry the path inside the hierarchy, not the mount */
+			if (cgroup_below(r->match_cgroup, CGROUP_FS))
+				return fail(p, v, "cgroup '%s' is a file system path (want the "
+					    "path below %s, e.g. /robot.slice)", r->match_cgroup,
+					    CGROUP_FS);
+			/* a trailing slash would break the prefix test */
+			n = strlen(r->match_cgroup);
+			while (n > 1 && r->match_cgroup[n - 1] == '/')
+				r->match_cgroup[--n] = '\0';
+		} else {
+			return fail(p, k, "unknown key '%s' %s", text(k), in);
+		}
+	}
+	return 0;
+}
+
+/* list_node - the value of the last allow/forbid list a map gives, or the map */
+static yaml_node_t *list_node(struct parse *p, yaml_node_t *map)
+{
+	yaml_node_t *at = map;
+	int i;
+
+	for (i = 0; i < npairs(map); i++) {
+		yaml_node_pair_t *pp = &map->data.mapping.pairs.start[i];
+		yaml_node_t *k = node(p, pp->key);
+
+		if (!strcmp(text(k), "allow_syscalls") || !strcmp(text(k), "forbid_syscalls"))
+			at = node(p, pp->value);
+	}
+	return at;
+}
+
+/*
+ * conflicts - a syscall both allowed and forbidden is a contradiction, also
+ * when one of the lists comes from the defaults (which one wins is unclear)
+ */
+static int conflicts(struct parse *p, yaml_node_t *map, const struct rule *r)
+{
+	int i, j;
+
+	for (i = 0; i < r->nallow; i++)
+		for (j = 0; j < r->nforbid; j++)
+			if (!strcmp(r->allow[i], r->forbid[j]))
+				return fail(p, list_node(p, map), "syscall '%s' is in both "
+					    "allow_syscalls and forbid_syscalls of %s",
+					    r->allow[i], p->where);
+	return 0;
+}
+
+/* find_name - the node of a rule's name: key, or NULL */
+static yaml_node_t *find_name(struct parse *p, yaml_node_t *map)
+{
+	yaml_node_pair_t *pp;
+
+	if (map->type != YAML_MAPPING_NODE)
+		return NULL;
+	for (pp = map->data.mapping.pairs.start; pp < map->data.mapping.pairs.top; pp++) {
+		yaml_node_t *k = node(p, pp->key);
+
+		if (k->type == YAML_SCALAR_NODE && !strcmp(text(k), "name"))
+			return node(p, pp->value);
+	}
+	return NULL;
+}
+
+/* parse_rule - one entry of rules:, starting as a copy of the defaults */
+static int parse_rule(struct parse *p, yaml_node_t *map, struct config *c, int idx)
+{
+	struct rule *r = &c->rules[idx];
+	yaml_node_t *name, *k, *v;
+	char in[CONFIG_NAME_LEN + 20];
+	int i;
+
+	if (want(p, map, YAML_MAPPING_NODE, "a rule"))
+		return -1;
+	p->rule = true;
+	*r = c->defaults;
+	r->set = 0;
+	r->line = map->start_mark.line + 1;
+	memset(r->name, 0, sizeof(r->name));
+	name = find_name(p, map);
+	if (!name)
+		return fail(p, map, "rule %d has no name", idx + 1);
+	if (copy_str(p, name, "rule name", r->name, CONFIG_NAME_LEN))
+		return -1;
+	snprintf(p->where, sizeof(p->where), "rule '%s'", r->name);
+	in_where(p, "", in, sizeof(in));
+	for (i = 0; i < idx; i++)
+		if (!strcmp(c->rules[i].name, r->name))
+			return fail(p, name, "duplicate rule name '%s' (first at line %d)",
+				    r->name, c->rules[i].line);
+	for (i = 0; i < npairs(map); i++) {
+		if (pair(p, map, i, &k, &v, in))
+			return -1;
+		if (!strcmp(text(k), "match") && parse_match(p, v, r))
+			return -1;
+	}
+	if (parse_group(p, rule_f, map, r, "", NULL))
+		return -1;
+	return conflicts(p, map, r);
+}
+
+/* parse_rules - the list under rules: */
+static int parse_rules(struct parse *p, yaml_node_t *seq, struct config *c)
+{
+	int n, i;
+
+	if (want(p, seq, YAML_SEQUENCE_NODE, "rules"))
+		return -1;
+	if (seq->type != YAML_SEQUENCE_NODE)
+		return 0;
+	n = seq->data.sequence.items.top - seq->data.sequence.items.start;
+	if (!n)
+		return 0;
+	c->rules = calloc(n, sizeof(*c->rules));
+	if (!c->rules)
+		return fail(p, seq, "out of memory");
+	for (i = 0; i < n; i++) {
+		c->nrules = i + 1;
+		if (parse_rule(p, node(p, seq->data.sequence.items.start[i]), c, i))
+			return -1;
+	}
+	return 0;
+}
+
+/* parse_defaults - the defaults: map, over the built-in defaults */
+static int parse_defaults(struct parse *p, yaml_node_t *map, struct config *c)
+{
+	snprintf(p->where, sizeof(p->where), "defaults");
+	p->rule = false;
+	if (map->type == YAML_MAPPING_NODE)
+		c->defaults.line = map->start_mark.line + 1;
+	if (parse_group(p, rule_f, map, &c->defaults, "", NULL))
+		return -1;
+	return conflicts(p, map, &c->defaults);
+}
+
+/* parse_top - the document: a map with defaults: and rules: */
+static int parse_top(struct parse *p, yaml_node_t *top, struct config *c)
+{
+	yaml_node_t *k, *v, *rules = NULL;
+	int i;
+
+	if (is_null(top))
+		return 0;
+	if (top->type != YAML_MAPPING_NODE)
+		return fail(p, top, "the file must be a map, not %s", kind(top));
+	for (i = 0; i < npairs(top); i++) {
+		if (pair(p, top, i, &k, &v, "at top level"))
+			return -1;
+		if (!strcmp(text(k), "rules"))
+			rules = v;
+		else if (strcmp(text(k), "defaults"))
+			return fail(p, k, "unknown key '%s' at top level (want defaults "
+				    "or rules)", text(k));
+		else if (parse_defaults(p, v, c))
+			return -1;
+	}
+	/* rules copy the defaults, so they come after them whatever the order */
+	return rules ? parse_rules(p, rules, c) : 0;
+}
+
+/* read_file - the whole file into memory */
+static char *read_file(const char *path, size_t *len, char *err, size_t errlen)
+{
+	char *buf = NULL;
+	size_t n = 0, got;
+	FILE *f;
+	int e;
+
+	f = fopen(path, "r");
+	if (!f) {
+		snprintf(err, errlen, "%s: cannot read: %s", path, strerror(errno));
+		return NULL;
+	}
+	do {
+		char *nb = realloc(buf, n + 4096 + 1);
+
+		if (!nb || n > MAX_FILE_SIZE) {
+			e = nb ? EFBIG : ENOMEM;
+			free(nb ? nb : buf);
+			fclose(f);
+			snprintf(err, errlen, "%s: cannot read: %s", path, strerror(e));
+			return NULL;
+		}
+		buf = nb;
+		got = fread(buf + n, 1, 4096, f);
+		n += got;
+	} while (got == 4096);
+	if (ferror(f)) {
+		e = errno;
+		free(buf);
+		fclose(f);
+		snprintf(err, errlen, "%s: cannot read: %s", path, strerror(e));
+		return NULL;
+	}
+	fclose(f);
+	buf[n] = '\0';
+	*len = n;
+	return buf;
+}
+
+/* offset_mark - line and column of a byte offset, for reader errors */
+static yaml_mark_t offset_mark(const char *buf, size_t off)
+{
+	yaml_mark_t m = { 0 };
+	size_t i;
+
+	for (i = 0; i < off && buf[i]; i++) {
+		if (buf[i] == '\n') {
+			m.line++;
+			m.column = 0;
+		} else {
+			m.column++;
+		}
+	}
+	return m;
+}
+
+/* syntax_error - libyaml's own message, with where it happened */
+static void syntax_error(const char *path, const char *buf, const yaml_parser_t *y,
+			 char *err, size_t errlen)
+{
+	const char *what = y->problem ? y->problem : "syntax error";
+	yaml_mark_t m = y->problem_mark;
+
+	/* the reader (bad UTF-8...) gives a byte offset, not a mark */
+	if (y->error == YAML_READER_ERROR)
+		m = offset_mark(buf, y->problem_offset);
+	if (y->context && y->context_mark.line != m.line)
+		snprintf(err, errlen, "%s:%zu:%zu: %s (%s at line %zu)", path, m.line + 1,
+			 m.column + 1, what, y->context, y->context_mark.line + 1);
+	else
+		snprintf(err, errlen, "%s:%zu:%zu: %s", path, m.line + 1, m.column + 1, what);
+}
+
+/* load_doc - parse the text; a second document in the file is an error */
+static int load_doc(const char *path, const char *buf, size_t len, yaml_document_t *doc,
+		    char *err, size_t errlen)
+{
+	yaml_document_t extra;
+	yaml_parser_t y;
+	int ret = -1;
+
+	if (!yaml_parser_initialize(&y)) {
+		snprintf(err, errlen, "%s: cannot read: %s", path, strerror(ENOMEM));
+		return -1;
+	}
+	yaml_parser_set_input_string(&y, (const unsigned char *)buf, len);
+	if (!yaml_parser_load(&y, doc)) {
+		syntax_error(path, buf, &y, err, errlen);
+		goto out;
+	}
+	if (!yaml_parser_load(&y, &extra)) {
+		syntax_error(path, buf, &y, err, errlen);
+		yaml_document_delete(doc);
+		goto out;
+	}
+	if (yaml_document_get_root_node(&extra)) {
+		snprintf(err, errlen, "%s:%zu:%zu: more than one YAML document", path,
+			 extra.start_mark.line + 1, extra.start_mark.column + 1);
+		yaml_document_delete(&extra);
+		yaml_document_delete(doc);
+		goto out;
+	}
+	yaml_document_delete(&extra);
+	ret = 0;
+out:
+	yaml_parser_delete(&y);
+	return ret;
+}
+
+void config_defaults(struct config *c)
+{
+	struct rule *d = &c->defaults;
+
+	memset(c, 0, sizeof(*c));
+	snprintf(d->name, sizeof(d->name), "defaults");
+	d->ewma_weight = 0.1;
+	snprintf(d->delims[0], SYSNAME_LEN, "clock_nanosleep");
+	snprintf(d->delims[1], SYSNAME_LEN, "nanosleep");
+	d->ndelims = 2;
+	d->policy = -1;
+	d->prio = -1;
+	d->th.init_timeout_s = 5;
+	d->th.miss_warn = 1;
+	d->th.miss_error_rate = 0.01;
+	d->th.exec_warn_ratio = 0.8;
+	d->th.exec_stat = EXEC_STAT_P99;
+	d->th.starve_warn_periods = 10;
+	d->th.starve_error_periods = 100;
+	d->th.unsafe_warn = 1;
+	d->th.unsafe_error[RTSUP_U_MAJFLT] = 1;
+	d->th.overhead_warn_pct = 1;
+	d->th.overhead_error_pct = 5;
+}
+
+int config_load(const char *path, struct config *c, char *err, size_t errlen)
+{
+	struct parse p = { .file = path, .err = err, .errlen = errlen };
+	yaml_document_t doc;
+	struct config tmp;
+	yaml_node_t *top;
+	size_t len;
+	char *buf;
+	int ret;
+
+	buf = read_file(path, &len, err, errlen);
+	if (!buf)
+		return -1;
+	ret = load_doc(path, buf, len, &doc, err, errlen);
+	free(buf);
+	if (ret)
+		return -1;
+	config_defaults(&tmp);
+	snprintf(tmp.path, sizeof(tmp.path), "%s", path);
+	p.doc = &doc;
+	top = yaml_document_get_root_node(&doc);
+	ret = top ? parse_top(&p, top, &tmp) : 0;
+	yaml_document_delete(&doc);
+	if (ret) {
+		config_free(&tmp);
+		return -1;
+	}
+	*c = tmp;
+	return 0;
+}
+
+/* rule_matches - every match key the rule gives matches; unknown never does */
+static bool rule_matches(const struct rule *r, const char *process, const char *thread,
+			 const char *cgroup)
+{
+	if (r->match_process[0] && (!process || fnmatch(r->match_process, process, 0)))
+		return false;
+	if (r->match_thread[0] && (!thread || fnmatch(r->match_thread, thread, 0)))
+		return false;
+	if (r->match_cgroup[0] && (!cgroup || !cgroup_below(cgroup, r->match_cgroup)))
+		return false;
+	return true;
+}
+
+int config_match(const struct config *c, const char *process, const char *thread,
+		 const char *cgroup, struct rule *effective)
+{
+	int i;
+
+	for (i = 0; i < c->nrules; i++) {
+		if (rule_matches(&c->rules[i], process, thread, cgroup)) {
+			if (effective)
+				*effective = c->rules[i];
+			return i;
+		}
+	}
+	if (effective)
+		*effective = c->defaults;
+	return -1;
+}
+
+/* fmt_shortest - the shortest %g of v * scale that reads back to v */
+static bool fmt_shortest(char *buf, size_t len, double v, double scale)
+{
+	int prec;
+
+	for (prec = 6; prec <= 17; prec++) {
+		snprintf(buf, len, "%.*g", prec, v * scale);
+		/* the parser divides by the same scale */
+		if (strtod(buf, NULL) / scale == v)
+			return true;
+	}
+	return false;
+}
+
+/*
+ * fmt_num - a number, as a percentage when scale is 100, so that loading
+ * the text gives v again; a ratio no percentage reads back to is written
+ * as the plain ratio
+ */
+static void fmt_num(char *buf, size_t len, double v, double scale, const char *suffix)
+{
+	if (fmt_shortest(buf, len - strlen(suffix), v, scale)) {
+		strcat(buf, suffix);
+		return;
+	}
+	fmt_shortest(buf, len, v, 1);
+}
+
+/* fmt_duration - ns with the largest unit that divides it exactly */
+static void fmt_duration(char *buf, size_t len, __u64 ns)
+{
+	static const struct {
+		const char *unit;
+		__u64 mult;
+	} units[] = {
+		{ "h", 3600 * NS_PER_S }, { "m", 60 * NS_PER_S }, { "s", NS_PER_S },
+		{ "ms", 1000000 }, { "us", 1000 },
+	};
+	size_t i;
+
+	if (!ns) {
+		snprintf(buf, len, "0");
+		return;
+	}
+	for (i = 0; i < sizeof(units) / sizeof(units[0]); i++) {
+		if (ns % units[i].mult == 0) {
+			snprintf(buf, len, "%llu%s", (unsigned long long)(ns / units[i].mult),
+				 units[i].unit);
+			return;
+		}
+	}
+	snprintf(buf, len, "%lluns", (unsigned long long)ns);
+}
+
+/* policy_name - SCHED_* name of a policy, "any" for -1 */
+static const char *policy_name(int policy)
+{
+	int i;
+
+	for (i = 0; i < NPOLICIES; i++)
+		if (policies[i].policy == policy)
+			return policies[i].name;
+	return "any";
+}
+
+/* fmt_syslist - [a, b] */
+static void fmt_syslist(char *buf, size_t len, const char (*names)[SYSNAME_LEN], int n)
+{
+	size_t o;
+	int i;
+
+	o = snprintf(buf, len, "[");
+	for (i = 0; i < n && o < len; i++)
+		o += snprintf(buf + o, len - o, "%s%s", i ? ", " : "", names[i]);
+	if (o < len)
+		snprintf(buf + o, len - o, "]");
+}
+
+static void fmt_group(char *buf, size_t len, const struct field *fields,
+		      const struct rule *r);
+
+/* fmt_value - one field's value as YAML text */
+static void fmt_value(char *buf, size_t len, const struct field *f, const struct rule *r)
+{
+	const void *src = (const char *)r + f->off;
+	int i;
+
+	switch (f->type) {
+	case F_DURATION:
+		fmt_duration(buf, len, *(const __u64 *)src);
+		break;
+	case F_SECONDS:
+		fmt_duration(buf, len, (__u64)llround(*(const double *)src * NS_PER_S));
+		break;
+	case F_COUNT:
+		snprintf(buf, len, "%llu", *(const unsigned long long *)src);
+		break;
+	case F_NUMBER:
+	case F_EWMA:
+		fmt_num(buf, len, *(const double *)src, 1, "");
+		break;
+	case F_RATIO:
+		fmt_num(buf, len, *(const double *)src, 100, "%");
+		break;
+	case F_PERCENT:
+		fmt_num(buf, len, *(const double *)src, 1, "%");
+		break;
+	case F_BOOL:
+		snprintf(buf, len, "%s", *(const bool *)src ? "true" : "false");
+		break;
+	case F_STAT:
+		snprintf(buf, len, "%s",
+			 *(const enum exec_stat *)src == EXEC_STAT_EWMA ? "ewma" : "p99");
+		break;
+	case F_POLICY:
+		snprintf(buf, len, "%s", policy_name(*(const int *)src));
+		break;
+	case F_PRIO:
+		i = *(const int *)src;
+		if (i < 0)
+			snprintf(buf, len, "any");
+		else
+			snprintf(buf, len, "%d", i);
+		break;
+	case F_SYSLIST:
+		fmt_syslist(buf, len, src, *(const int *)((const char *)r + f->off2));
+		break;
+	case F_GROUP:
+		fmt_group(buf, len, f->sub, r);
+		break;
+	default:
+		buf[0] = '\0';
+	}
+}
+
+/* fmt_group - a nested group as a flow map {k: v, ...} */
+static void fmt_group(char *buf, size_t len, const struct field *fields,
+		      const struct rule *r)
+{
+	char val[256];
+	size_t o;
+
+	o = snprintf(buf, len, "{");
+	for (; fields->key && o < len; fields++) {
+		fmt_value(val, sizeof(val), fields, r);
+		o += snprintf(buf + o, len - o, "%s%s: %s", o > 1 ? ", " : "", fields->key,
+			      val);
+	}
+	if (o < len)
+		snprintf(buf + o, len - o, "}");
+}
+
+/* print_str - a double-quoted YAML string */
+static void print_str(FILE *out, const char *s)
+{
+	fputc('"', out);
+	for (; *s; s++) {
+		if (*s == '"' || *s == '\\')
+			fprintf(out, "\\%c", *s);
+		else if ((unsigned char)*s < 0x20)
+			fprintf(out, "\\x%02x", (unsigned char)*s);
+		else
+			fputc(*s, out);
+	}
+	fputc('"', out);
+}
+
+/*
+ * print_rule - the keys of a rule (or the defaults) at an indent. Keys the
+ * rule takes from elsewhere are shown as comments, so that reading the text
+ * back gives the same "set" bits and the rule keeps following the defaults.
+ */
+static void print_rule(FILE *out, const struct rule *r, const char *ind,
+		       const char *inherited)
+{
+	const struct field *f, *t;
+	char val[512];
+
+	for (f = rule_f; f->key; f++) {
+		if (f->type == F_GROUP) {
+			fprintf(out, "%s%s:\n", ind, f->key);
+			for (t = f->sub; t->key; t++) {
+				fmt_value(val, sizeof(val), t, r);
+				fprintf(out, "%s  %s: %s\n", ind, t->key, val);
+			}
+			continue;
+		}
+		fmt_value(val, sizeof(val), f, r);
+		if (r->set & f->flag)
+			fprintf(out, "%s%s: %s\n", ind, f->key, val);
+		else
+			fprintf(out, "%s# %s: %s  (%s)\n", ind, f->key, val, inherited);
+	}
+}
+
+/* print_match - a rule's match: as a flow map, or nothing */
+static void print_match(FILE *out, const struct rule *r)
+{
+	const char *keys[] = { "process", "thread", "cgroup" };
+	const char *vals[] = { r->match_process, r->match_thread, r->match_cgroup };
+	int i, n = 0;
+
+	for (i = 0; i < 3; i++) {
+		if (!vals[i][0])
+			continue;
+		fprintf(out, "%s%s: ", n++ ? ", " : "    match: {", keys[i]);
+		print_str(out, vals[i]);
+	}
+	fprintf(out, n ? "}\n" : "    # match: {}  (every thread)\n");
+}
+
+void config_print(const struct config *c, FILE *out)
+{
+	int i;
+
+	fprintf(out, "# rtsup-trace effective configuration (%s)\n",
+		c->path[0] ? c->path : "built in");
+	fprintf(out, "defaults:\n");
+	print_rule(out, &c->defaults, "  ", "built in");
+	if (!c->nrules) {
+		fprintf(out, "rules: []\n");
+		return;
+	}
+	fprintf(out, "rules:\n");
+	for (i = 0; i < c->nrules; i++) {
+		fprintf(out, "  - name: ");
+		print_str(out, c->rules[i].name);
+		fputc('\n', out);
+		print_match(out, &c->rules[i]);
+		print_rule(out, &c->rules[i], "    ", "from defaults");
+	}
+}
+
+void config_free(struct config *c)
+{
+	free(c->rules);
+	c->rules = NULL;
+	c->nrules = 0;
+}

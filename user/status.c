@@ -1,0 +1,68 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/* status.c - levels and messages of a component */
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+#include "status.h"
+
+void status_reset(struct status *s)
+{
+	s->level = LEVEL_OK;
+	s->nmsg = 0;
+	s->dropped = 0;
+}
+
+void status_add(struct status *s, enum level l, const char *fmt, ...)
+{
+	va_list ap;
+
+	if (l > s->level)
+		s->level = l;
+	if (s->nmsg == STATUS_MAX_MSGS) {
+		s->dropped++;
+		return;
+	}
+	va_start(ap, fmt);
+	vsnprintf(s->msg[s->nmsg++], STATUS_MSG_LEN, fmt, ap);
+	va_end(ap);
+}
+
+void status_join(const struct status *s, char *buf, size_t len)
+{
+	size_t off = 0;
+	int i;
+
+	buf[0] = '\0';
+	for (i = 0; i < s->nmsg && off < len; i++)
+		off += snprintf(buf + off, len - off, "%s%s", i ? "; " : "", s->msg[i]);
+	if (s->dropped && off < len)
+		snprintf(buf + off, len - off, "; %d more", s->dropped);
+}
+
+bool status_same(const struct status *a, const struct status *b)
+{
+	int i;
+
+	if (a->level != b->level || a->nmsg != b->nmsg)
+		return false;
+	for (i = 0; i < a->nmsg; i++)
+		if (strcmp(a->msg[i], b->msg[i]))
+			return false;
+	return true;
+}
+
+const char *level_name(enum level l)
+{
+	switch (l) {
+	case LEVEL_OK: return "OK";
+	case LEVEL_STALE: return "STALE";
+	case LEVEL_WARN: return "WARN";
+	case LEVEL_ERROR: return "ERROR";
+	}
+	return "?";
+}
+
+bool level_fails(enum level l, enum level min)
+{
+	return l >= LEVEL_WARN && l >= min;
+}

@@ -1,0 +1,44 @@
+/* SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause */
+/*
+ * status.h - the verdict on one supervised component (a thread, a CAN node,
+ * the supervisor itself): a level and every message that led to it. Each
+ * check adds its messages on its own; the worst level wins.
+ */
+#ifndef RTSUP_STATUS_H
+#define RTSUP_STATUS_H
+
+#include <stdbool.h>
+#include <linux/types.h>
+
+enum level {
+	LEVEL_OK,
+	LEVEL_STALE,	/* no data any more (the thread is gone) */
+	LEVEL_WARN,
+	LEVEL_ERROR,
+};
+
+#define STATUS_MAX_MSGS	8
+#define STATUS_MSG_LEN	160
+
+struct status {
+	enum level level;
+	int nmsg;
+	int dropped;	/* messages beyond STATUS_MAX_MSGS */
+	char msg[STATUS_MAX_MSGS][STATUS_MSG_LEN];
+};
+
+/* status_reset - OK, no messages */
+void status_reset(struct status *s);
+/* status_add - add one message at a level; the worst level wins */
+void status_add(struct status *s, enum level l, const char *fmt, ...)
+	__attribute__((format(printf, 3, 4)));
+/* status_join - all messages in one line, "; " separated */
+void status_join(const struct status *s, char *buf, size_t len);
+/* status_same - same level and same messages? */
+bool status_same(const struct status *a, const struct status *b);
+/* level_name - "OK", "WARN", "ERROR", "STALE" */
+const char *level_name(enum level l);
+/* level_fails - does this level fail a --check run at --fail-on 'min'? */
+bool level_fails(enum level l, enum level min);
+
+#endif
