@@ -91,6 +91,8 @@ UNIT_DEPS_test_record := user/record.c
 UNIT_LIBS_test_record := -lz -ljansson
 UNIT_DEPS_test_perfetto := user/perfetto.c
 UNIT_LIBS_test_perfetto := -ljansson
+UNIT_DEPS_test_checks := user/checks.c user/model.c user/status.c
+UNIT_DEPS_test_status := user/status.c
 .SECONDEXPANSION:
 $(OUT)/tests/%: tests/unit/%.c $$(UNIT_DEPS_$$*) $(OUT)/syscall_table.h | $(OUT)/tests
 	$(call msg,CC,$@)

@@ -239,10 +239,35 @@ static __always_inline struct rtsup_thread *add_thread(struct task_struct *task,
 	return t;
 }
 
-/* emit_faults - report the page faults of a finished cycle */
+/* count_sys - add to a thread's count of one unsafe syscall */
+static __always_inline void count_sys(struct rtsup_thread *t, __u32 nr, __u64 n)
+{
+	struct rtsup_sys_key k = { .tid = t->tid, .nr = nr, .mode = t->cs.mode };
+	__u64 *cnt = bpf_map_lookup_elem(&unsafe_sys, &k);
+
+	if (cnt)
+		__sync_fetch_and_add(cnt, n);
+	else if (bpf_map_update_elem(&unsafe_sys, &k, &n, BPF_NOEXIST))
+		count(RTSUP_C_SYS_FULL);
+}
+
+/* flush_sys - the finished cycle's unsafe syscalls, by number */
+static __always_inline void flush_sys(struct rtsup_thread *t)
+{
+	__u32 i;
+
+	for (i = 0; i < RTSUP_PEND_SYS; i++) {
+		if (t->cs.pend_cnt[i])
+			count_sys(t, t->cs.pend_nr[i], t->cs.pend_cnt[i]);
+		t->cs.pend_cnt[i] = 0;
+	}
+}
+
+/* emit_cycle - what follows a finished cycle: counts, record, rare events */
 static __always_inline void emit_cycle(__u32 ev, struct rtsup_thread *t, __u64 now,
 				       const struct rtsup_cycle *c, __u64 lateness)
 {
+	flush_sys(t);
 	record_cycle(t, c);
 	if (ev & CYC_EV_MISS)
 		emit(RTSUP_EV_MISS, t, now, lateness, c->exec);
@@ -349,13 +374,9 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id)
 		unsafe = fd_is_file_or_tty(task, PT_REGS_PARM1_CORE_SYSCALL(regs));
 	ev = cycle_syscall(t, unsafe);
 	if (ev & CYC_EV_UNSAFE) {
-		struct rtsup_sys_key k = { .tid = tid, .nr = nr, .mode = t->cs.mode };
-		__u64 one = 1, *n = bpf_map_lookup_elem(&unsafe_sys, &k);
-
-		if (n)
-			__sync_fetch_and_add(n, 1);
-		else if (bpf_map_update_elem(&unsafe_sys, &k, &one, BPF_NOEXIST))
-			count(RTSUP_C_SYS_FULL);
+		/* by number at the cycle's end, like the other counts */
+		if (cycle_pend_sys(&t->cs, nr))
+			count_sys(t, nr, 1);
 		emit(RTSUP_EV_UNSAFE, t, now, RTSUP_U_SYSCALL, nr);
 	}
 	return 0;

@@ -81,6 +81,35 @@ RTSUP_INLINE void cycle_epoch(struct rtsup_thread *t, __u32 epoch)
 		minmax_reset(&t->m[i].win[epoch & 1]);
 }
 
+/* cycle_pend_clear - forget the running cycle's unsafe syscalls by number */
+RTSUP_INLINE void cycle_pend_clear(struct rtsup_cycle_state *cs)
+{
+	__u32 i;
+
+	for (i = 0; i < RTSUP_PEND_SYS; i++) {
+		cs->pend_nr[i] = 0;
+		cs->pend_cnt[i] = 0;
+	}
+}
+
+/*
+ * cycle_pend_sys - hold an unsafe syscall until its cycle ends; 0 when held,
+ * 1 when every slot is taken (the caller counts it at once).
+ */
+RTSUP_INLINE int cycle_pend_sys(struct rtsup_cycle_state *cs, __u16 nr)
+{
+	__u32 i;
+
+	for (i = 0; i < RTSUP_PEND_SYS; i++) {
+		if (cs->pend_cnt[i] && cs->pend_nr[i] != nr)
+			continue;
+		cs->pend_nr[i] = nr;
+		cs->pend_cnt[i]++;
+		return 0;
+	}
+	return 1;
+}
+
 /* cycle_begin - a new cycle starts at 'start' */
 RTSUP_INLINE void cycle_begin(struct rtsup_cycle_state *cs, __u64 start,
 			      __u64 minflt, __u64 majflt)
@@ -95,6 +124,7 @@ RTSUP_INLINE void cycle_begin(struct rtsup_cycle_state *cs, __u64 start,
 	cs->migrations = 0;
 	cs->syscalls = 0;
 	cs->unsafe_sys = 0;
+	cycle_pend_clear(cs);
 }
 
 /* cycle_close - finish the running cycle at 'now', account it */
@@ -242,7 +272,6 @@ RTSUP_INLINE __u32 cycle_switch_in(struct rtsup_thread *t, __u64 now, __s32 cpu,
 		t->migrations++;
 		if (cs->start && !cs->in_delim) {
 			cs->migrations++;
-			t->unsafe[RTSUP_U_MIGRATE]++;
 			ev |= CYC_EV_MIGRATE;
 		}
 	}
@@ -300,7 +329,6 @@ RTSUP_INLINE __u32 cycle_switch_out(struct rtsup_thread *t, const struct cycle_c
 		cs->preempt++;
 	} else if (cs->mode == RTSUP_MODE_DELIM) {
 		cs->blocks++;
-		t->unsafe[RTSUP_U_BLOCK]++;
 		ev |= CYC_EV_BLOCK;
 	} else {
 		ev |= cycle_close(t, cfg, now, minflt, majflt, out);
@@ -321,11 +349,9 @@ RTSUP_INLINE __u32 cycle_syscall(struct rtsup_thread *t, int unsafe)
 	if (!cs->start || cs->in_delim)
 		return 0;
 	cs->syscalls++;
-	t->syscalls++;
 	if (!unsafe)
 		return 0;
 	cs->unsafe_sys++;
-	t->unsafe[RTSUP_U_SYSCALL]++;
 	return CYC_EV_UNSAFE;
 }
 
@@ -337,12 +363,13 @@ RTSUP_INLINE void cycle_exit(struct rtsup_thread *t, __u64 now, __u64 minflt,
 
 	t->exited = now;
 	if (cs->start && !cs->in_delim && cs->mode == RTSUP_MODE_DELIM) {
-		/* faults already happened: count them even without a cycle */
+		/* shown apart: a thread's teardown is not its loop */
 		t->exit_mid_cycle = 1;
-		t->minflt += minflt - cs->minflt0;
-		t->majflt += majflt - cs->majflt0;
-		t->unsafe[RTSUP_U_MINFLT] += minflt - cs->minflt0;
-		t->unsafe[RTSUP_U_MAJFLT] += majflt - cs->majflt0;
+		t->exit_unsafe[RTSUP_U_SYSCALL] += cs->unsafe_sys;
+		t->exit_unsafe[RTSUP_U_MINFLT] += minflt - cs->minflt0;
+		t->exit_unsafe[RTSUP_U_MAJFLT] += majflt - cs->majflt0;
+		t->exit_unsafe[RTSUP_U_BLOCK] += cs->blocks;
+		t->exit_unsafe[RTSUP_U_MIGRATE] += cs->migrations;
 	}
 	cs->start = 0;
 	cs->in_delim = 0;

@@ -104,6 +104,8 @@ struct rtsup_cycle {
 	__u32 flags;
 };
 
+#define RTSUP_PEND_SYS	4	/* distinct unsafe syscalls held per cycle */
+
 /* Cycle state machine: everything needed between two events. */
 struct rtsup_cycle_state {
 	__u64 start;		/* release of the running cycle, 0 = none */
@@ -128,6 +130,9 @@ struct rtsup_cycle_state {
 	__u32 syscalls;
 	__u32 unsafe_sys;
 	__u32 pad;
+	/* unsafe syscalls of the running cycle, by number, counted at its end */
+	__u16 pend_nr[RTSUP_PEND_SYS];
+	__u16 pend_cnt[RTSUP_PEND_SYS];
 };
 
 /* Per-thread value of the map "threads", keyed by tid. */
@@ -148,7 +153,9 @@ struct rtsup_thread {
 	__u64 signals;
 	__u64 minflt;		/* inside cycles */
 	__u64 majflt;
-	__u64 unsafe[RTSUP_U_NR];
+	__u64 unsafe[RTSUP_U_NR];	/* inside finished cycles */
+	/* inside the cycle cut by the thread's exit: its teardown, not its loop */
+	__u64 exit_unsafe[RTSUP_U_NR];
 	__u64 exited;		/* exit time, 0 while alive */
 	__u32 exit_mid_cycle;
 	__u32 last_signal;

@@ -82,10 +82,15 @@ RTSUP_INLINE void thread_account_cycle(struct rtsup_thread *t,
 	metric_add(&t->m[RTSUP_M_CPU], c->cpu, w, epoch);
 	if (c->flags & RTSUP_CF_HAS_LATENCY)
 		metric_add(&t->m[RTSUP_M_LATENCY], c->latency, w, epoch);
+	/* unsafe events count once their cycle is whole (not in an exit's teardown) */
+	t->syscalls += c->syscalls;
 	t->minflt += c->minflt;
 	t->majflt += c->majflt;
+	t->unsafe[RTSUP_U_SYSCALL] += c->unsafe_sys;
 	t->unsafe[RTSUP_U_MINFLT] += c->minflt;
 	t->unsafe[RTSUP_U_MAJFLT] += c->majflt;
+	t->unsafe[RTSUP_U_BLOCK] += c->blocks;
+	t->unsafe[RTSUP_U_MIGRATE] += c->migrations;
 }
 
 #endif /* RTSUP_STATS_H */

@@ -93,7 +93,7 @@ static void check_starvation(const struct check_in *in, __u64 period, struct sta
 
 /* check_unsafe - RT-safety loss, by reason, naming the syscalls */
 static void check_unsafe(const struct check_in *in, const struct span_view *v,
-			 const char *span, struct status *s)
+			 const char *span, const char *names, struct status *s)
 {
 	const struct thresholds *th = &in->rule->th;
 	enum level l = LEVEL_WARN;
@@ -112,8 +112,8 @@ static void check_unsafe(const struct check_in *in, const struct span_view *v,
 			off += snprintf(what + off, sizeof(what) - off, "%s%s %llu", off ? ", " : "",
 					unsafe_reason_name(r), (unsigned long long)v->unsafe[r]);
 	}
-	if (in->unsafe_names && *in->unsafe_names)
-		status_add(s, l, "RT-unsafe %s: %s (syscalls: %s)", span, what, in->unsafe_names);
+	if (names && *names)
+		status_add(s, l, "RT-unsafe %s: %s (syscalls: %s)", span, what, names);
 	else
 		status_add(s, l, "RT-unsafe %s: %s", span, what);
 }
@@ -211,13 +211,14 @@ void check_thread(const struct check_in *in, struct status *out)
 	if (in->win) {
 		check_overrun(in, in->win, "in the last interval", out);
 		check_exec_near(in, in->win, period, out);
-		check_unsafe(in, in->win, "in the last interval", out);
+		check_unsafe(in, in->win, "in the last interval", in->unsafe_names, out);
 		check_latency(in, in->win, out);
 		check_jitter(in, in->win, period, out);
 	}
 	if (in->rule->th.lifetime) {
 		check_overrun(in, in->life, "in total", out);
-		check_unsafe(in, in->life, "in total", out);
+		/* the names are the window's: not for the totals */
+		check_unsafe(in, in->life, "in total", NULL, out);
 		check_latency(in, in->life, out);
 		check_jitter(in, in->life, period, out);
 	}

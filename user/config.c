@@ -462,6 +462,24 @@ static int parse_number(struct parse *p, const struct field *f, yaml_node_t *v,
 	return 0;
 }
 
+/* parse_prio - an RT priority 1..99, or any (-1) */
+static int parse_prio(struct parse *p, yaml_node_t *v, int *prio)
+{
+	const char *s = text(v);
+	__u64 u;
+
+	if (!strcasecmp(s, "any")) {
+		*prio = -1;
+		return 0;
+	}
+	if (parse_count(s, &u))
+		return fail(p, v, "bad priority '%s' (want 1..99 or any)", s);
+	if (u < 1 || u > 99)
+		return fail(p, v, "priority '%s' out of range (want 1..99 or any)", s);
+	*prio = (int)u;
+	return 0;
+}
+
 /* parse_field - one key's value into the rule */
 static int parse_field(struct parse *p, const struct field *f, yaml_node_t *v,
 		       struct rule *r, const char *path)
@@ -505,19 +523,11 @@ static int parse_field(struct parse *p, const struct field *f, yaml_node_t *v,
 	case F_POLICY:
 		if (parse_policy(s, dst))
 			return fail(p, v, "unknown policy '%s' (want SCHED_FIFO, SCHED_RR, "
-				    "SCHED_DEADLINE, SCHED_OTHER, SCHED_BATCH, SCHED_IDLE or any)", s);
+				    "SCHED_DEADLINE, SCHED_OTHER, SCHED_BATCH, SCHED_IDLE "
+				    "or any)", s);
 		return 0;
 	case F_PRIO:
-		if (!strcasecmp(s, "any")) {
-			*(int *)dst = -1;
-			return 0;
-		}
-		if (parse_count(s, &u))
-			return fail(p, v, "bad priority '%s' (want 1..99 or any)", s);
-		if (u < 1 || u > 99)
-			return fail(p, v, "priority '%s' out of range (want 1..99 or any)", s);
-		*(int *)dst = (int)u;
-		return 0;
+		return parse_prio(p, v, dst);
 	default:
 		return parse_number(p, f, v, name, dst);
 	}

@@ -117,6 +117,16 @@ static json_t *json_thread(const struct collector *c, const struct supervisor *s
 	if (tm->cur.exited) {
 		json_object_set_new(o, "exit_mid_cycle", json_boolean(tm->cur.exit_mid_cycle));
 		json_object_set_new(o, "exit_code", json_integer(tm->cur.exit_code));
+		if (tm->cur.exit_mid_cycle) {
+			/* the teardown inside the cut cycle, kept out of the totals */
+			json_t *u = json_object();
+			int i;
+
+			for (i = 0; i < RTSUP_U_NR; i++)
+				json_object_set_new(u, unsafe_reason_name(i),
+						    json_integer(tm->cur.exit_unsafe[i]));
+			json_object_set_new(o, "exit_cycle_unsafe", u);
+		}
 	}
 	json_object_set_new(o, "process", json_string(tm->pcomm));
 	json_object_set_new(o, "status", json_status(&tm->st));

@@ -43,7 +43,7 @@ bool status_same(const struct status *a, const struct status *b)
 {
 	int i;
 
-	if (a->level != b->level || a->nmsg != b->nmsg)
+	if (a->level != b->level || a->nmsg != b->nmsg || a->dropped != b->dropped)
 		return false;
 	for (i = 0; i < a->nmsg; i++)
 		if (strcmp(a->msg[i], b->msg[i]))

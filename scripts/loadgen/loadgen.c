@@ -72,7 +72,7 @@ struct worker {
 	pid_t tid;
 	char comm[16];
 	int policy, prio;
-	long cycles, misses, overruns, page_faults, blocks, stalls;
+	long cycles, misses, overruns, overruns_seen, page_faults, blocks, stalls;
 	long sc[NR_SC];
 	bool exited;
 	long exit_cycle;
@@ -575,6 +575,9 @@ static void *worker_main(void *arg)
 		work = w->maxlog ? inject(w, c, &quit) : cfg.work_us * 1000;
 		while (now_ns() - start < work)
 			;
+		/* what a tracer sees: the work took longer than a period (stalls too) */
+		if (now_ns() - start > period)
+			w->overruns_seen++;
 		w->cycles++;
 		if (quit) {
 			w->exited = true;
@@ -871,12 +874,13 @@ static json_t *thread_json(const struct worker *w)
 			"kind", kind_names[w->log[i].kind],
 			"arg", (json_int_t)w->log[i].arg));
 	o = json_pack("{s:i, s:i, s:s, s:s, s:i, s:i, s:I, s:I, s:I, s:o,"
-		      " s:I, s:I, s:I, s:b, s:I, s:o, s:i}",
+		      " s:I, s:I, s:I, s:I, s:b, s:I, s:o, s:i}",
 		      "index", w->index, "tid", (int)w->tid, "comm", w->comm,
 		      "policy", policy_name(w->policy), "prio", w->prio,
 		      "cpu", w->cpu, "cycles", (json_int_t)w->cycles,
 		      "deadline_misses", (json_int_t)w->misses,
 		      "overruns", (json_int_t)w->overruns, "syscalls", sc,
+		      "overruns_seen", (json_int_t)w->overruns_seen,
 		      "page_faults", (json_int_t)w->page_faults,
 		      "blocks", (json_int_t)w->blocks,
 		      "stalls", (json_int_t)w->stalls, "exited", (int)w->exited,

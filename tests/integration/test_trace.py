@@ -21,7 +21,9 @@ def check_thread_matches(truth_t, got):
     # cycles within 1 %, period within 2 %
     assert abs(tot["cycles"] - truth_t["cycles"]) <= truth_t["cycles"] * 0.01
     assert tot["period_ns"]["mean"] == pytest.approx(PERIOD_US * 1000, rel=0.02)
-    assert tot["overruns"] == truth_t["overruns"]
+    # the generator's own view: injected overruns plus stalls that made one
+    assert truth_t["overruns_seen"] >= truth_t["overruns"]
+    assert tot["overruns"] == truth_t["overruns_seen"]
     assert tot["deadline_misses"] == truth_t["deadline_misses"]
     assert tot["page_faults"]["minor"] == truth_t["page_faults"]
     assert tot["unsafe"]["minor_fault"] == truth_t["page_faults"]
@@ -148,7 +150,8 @@ def test_relative_sleep_with_nominal_period(tmp_path):
         tot = got[t["tid"]]["total"]
         assert tot["cycles"] == pytest.approx(t["cycles"], rel=0.01)
         assert tot["period_ns"]["mean"] == pytest.approx(1e6, rel=0.02)
-        assert tot["overruns"] == t["overruns"] == 1
+        assert t["overruns"] == 1
+        assert tot["overruns"] == t["overruns_seen"]
         # a relative sleep has no deadline to miss
         assert tot["deadline_misses"] == 0
 

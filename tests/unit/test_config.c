@@ -15,7 +15,8 @@
 
 /* test files, relative to the project root (make unit runs from there) */
 #define DIR	"tests/unit/config/"
-#define ALL_SET	(RF_PERIOD | RF_EWMA | RF_DELIMS | RF_POLICY | RF_PRIO | RF_ALLOW | RF_FORBID)
+#define ALL_SET	(RF_PERIOD | RF_EWMA | RF_DELIMS | RF_POLICY | RF_PRIO | RF_ALLOW | \
+		 RF_FORBID)
 
 /* load_ok - load a file that must be valid */
 static void load_ok(const char *path, struct config *c)
