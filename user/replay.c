@@ -99,11 +99,8 @@ static void on_cycle(struct replay *r, const struct rec_cycle *rc)
 	tm->cur.majflt -= rc->r.c.majflt;
 	tm->cur.unsafe[RTSUP_U_MINFLT] -= rc->r.c.minflt;
 	tm->cur.unsafe[RTSUP_U_MAJFLT] -= rc->r.c.majflt;
-	if (r->pf) {
-		perfetto_name(r->pf, &r->named, &r->nnamed, &r->cap, rc->r.tgid, rc->r.tid,
-			      tm->comm[0] ? tm->comm : "?", tm->pcomm[0] ? tm->pcomm : "?");
+	if (r->pf)
 		perfetto_cycle(r->pf, rc->r.tgid, rc->r.tid, &rc->r.c);
-	}
 }
 
 /* on_event - a rare event for the interval's list */
@@ -134,6 +131,9 @@ static void on_mark(struct replay *r, const struct rec_interval *ri, bool end)
 	self.lost_events = ri->counters[RTSUP_C_RB_DROPS] + ri->counters[RTSUP_C_CYC_DROPS] -
 			   c->counters[RTSUP_C_RB_DROPS] - c->counters[RTSUP_C_CYC_DROPS];
 	memcpy(c->counters, ri->counters, sizeof(c->counters));
+	for (i = 0; r->pf && i < c->model.n; i++)
+		perfetto_name(r->pf, &r->named, &r->nnamed, &r->cap, c->model.t[i].tgid,
+			      c->model.t[i].tid, c->model.t[i].comm, c->model.t[i].pcomm);
 	c->bank = r->epoch & 1;
 	r->epoch++;
 	supervise_interval(r->s, &c->model, c->bank, &self, ri->mono_ns);

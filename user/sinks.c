@@ -70,13 +70,9 @@ static void sink_cycle(void *ctx, const struct rtsup_cycle_rec *r)
 	struct sinks *sk = ctx;
 	struct rec_cycle rc;
 
-	if (sk->pf) {
-		const struct thread_model *tm = model_get((struct model *)sk->model, r->tid, false);
-
-		perfetto_name(sk->pf, &sk->named, &sk->nnamed, &sk->cap, r->tgid, r->tid,
-			      tm ? tm->comm : "?", tm ? tm->pcomm : "?");
+	/* tracks are named at the interval, when the model knows the names */
+	if (sk->pf)
 		perfetto_cycle(sk->pf, r->tgid, r->tid, &r->c);
-	}
 	if (!sk->rec || sk->failed)
 		return;
 	rc.end = r->c.start + r->c.exec;
@@ -204,9 +200,20 @@ static int write_states(struct sinks *sk, const struct collector *c, const struc
 	return rec_write(sk->rec, mark, &ri, sizeof(ri), sk->err, sizeof(sk->err));
 }
 
+/* name_tracks - a Perfetto track name for every thread the model knows */
+static void name_tracks(struct sinks *sk, const struct model *m)
+{
+	int i;
+
+	for (i = 0; sk->pf && i < m->n; i++)
+		perfetto_name(sk->pf, &sk->named, &sk->nnamed, &sk->cap, m->t[i].tgid,
+			      m->t[i].tid, m->t[i].comm, m->t[i].pcomm);
+}
+
 int sinks_interval(struct sinks *sk, const struct collector *c, const struct self_in *self,
 		   __u64 now)
 {
+	name_tracks(sk, &c->model);
 	if (write_states(sk, c, self, now, REC_INTERVAL)) {
 		sk->failed = true;
 		fprintf(stderr, "rtsup-trace: --record: %s\n", sk->err);
@@ -220,6 +227,7 @@ int sinks_close(struct sinks *sk, const struct collector *c, const struct self_i
 {
 	int err = 0;
 
+	name_tracks(sk, &c->model);
 	if (sk->rec) {
 		if (write_states(sk, c, self, now, REC_END) ||
 		    rec_close(sk->rec, sk->err, sizeof(sk->err))) {

@@ -1,0 +1,259 @@
+# SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+"""Verdicts, configuration, CI mode and recorded traces, against rtsup-loadgen."""
+import json
+import signal
+import subprocess
+import time
+
+import pytest
+
+from conftest import LOADGEN, ROOT, TRACE, Loadgen, Trace, threads_by_tid, unique_prefix
+
+pytestmark = pytest.mark.usefixtures("bpf")
+
+# Tolerant of what a loaded host does to timing (misses from stalls), strict on
+# what the program does: RT-unsafe events, deaths, scheduling.
+CLEAN = """
+defaults:
+  thresholds:
+    deadline_miss: {warn: 50}
+    exec_near_period: {warn: 1000%}
+    starvation: {warn_periods: 0, error_periods: 0}
+    overhead: {warn: 0%, error: 0%}
+rules:
+  - name: loop
+    match: {thread: "PREFIX-*"}
+    period: 1ms
+    policy: SCHED_FIFO
+    priority: 80
+"""
+
+
+def write(tmp_path, name, text):
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+def run_check(args, timeout=120):
+    """rtsup-trace --check ... -- CMD: (exit code, summary, stderr)."""
+    r = subprocess.run([str(TRACE), "--check", "-j", "-i", "500ms"] + args,
+                       capture_output=True, text=True, timeout=timeout)
+    objs = [json.loads(x) for x in r.stdout.splitlines() if x.startswith("{")]
+    summary = [o for o in objs if o.get("type") == "summary"]
+    return r.returncode, (summary[0] if summary else None), r.stderr, objs
+
+
+def loop_threads(summary, prefix):
+    return [t for t in summary["threads"] if t["comm"].startswith(prefix + "-")
+            and t["comm"][len(prefix) + 1:].isdigit()]
+
+
+def test_check_clean_command_exits_0(tmp_path):
+    prefix = unique_prefix()
+    cfg = write(tmp_path, "rt.yaml", CLEAN.replace("PREFIX", prefix))
+    code, summary, err, _ = run_check(
+        ["--config", str(cfg), "--", str(LOADGEN), "--name", prefix, "-c", "1500"])
+    assert code == 0, err
+    threads = loop_threads(summary, prefix)
+    assert len(threads) == 2
+    for t in threads:
+        assert t["rule"] == "loop"
+        assert t["worst_level"] in ("OK", "STALE")
+        assert t["total"]["cycles"] >= 1490
+    assert summary["violations"] == []
+
+
+def test_check_faults_exit_2_with_messages(tmp_path):
+    prefix = unique_prefix()
+    cfg = write(tmp_path, "rt.yaml", CLEAN.replace("PREFIX", prefix))
+    code, summary, err, _ = run_check(
+        ["--config", str(cfg), "--", str(LOADGEN), "--name", prefix, "-c", "1500",
+         "-f", "mmap@600,thread=0", "-f", "pagefault:2@900,thread=1"])
+    assert code == 2, err
+    what = {v["component"].split("[")[0]: v["what"] for v in summary["violations"]}
+    assert "RT-unsafe in the last interval: syscall 2" in what[prefix + "-0"]
+    assert "mmap 1" in what[prefix + "-0"] and "munmap 1" in what[prefix + "-0"]
+    assert "minor_fault 2" in what[prefix + "-1"]
+    levels = {v["level"] for v in summary["violations"]}
+    assert levels == {"WARN"}
+    # the level change was logged on stderr: time, component, old -> new, why
+    assert "%s-0[" % prefix in err and ": OK -> WARN: RT-unsafe" in err
+    # --fail-on error ignores WARN
+    code, _, err, _ = run_check(
+        ["--fail-on", "error", "--config", str(cfg), "--", str(LOADGEN), "--name", prefix,
+         "-c", "800", "-f", "mmap@300,thread=0"])
+    assert code == 0, err
+
+
+def test_check_error_for_wrong_policy_and_major_rule(tmp_path):
+    prefix = unique_prefix()
+    cfg = write(tmp_path, "rt.yaml", CLEAN.replace("PREFIX", prefix))
+    # started without SCHED_FIFO: the rule says SCHED_FIFO 80
+    code, summary, err, _ = run_check(
+        ["--config", str(cfg), "--", str(LOADGEN), "--name", prefix, "-r", "0", "-c", "800"])
+    assert code == 2
+    errors = [v for v in summary["violations"] if v["level"] == "ERROR"]
+    assert errors and all("policy SCHED_OTHER, expected SCHED_FIFO" in v["what"] for v in errors)
+
+
+def test_thread_death_is_an_error_and_says_so(tmp_path):
+    prefix = unique_prefix()
+    cfg = write(tmp_path, "rt.yaml", CLEAN.replace("PREFIX", prefix))
+    tr = Trace(["--config", str(cfg), "--comm", prefix + "-0", "--comm", prefix + "-1",
+                "-i", "300ms"])
+    lg = Loadgen(tmp_path, ["--name", prefix, "-c", "1000", "-f", "exit@400,thread=1"])
+    try:
+        truth = lg.summary()
+        time.sleep(0.4)
+        intervals, summary, err = tr.stop()
+    finally:
+        lg.stop()
+    dead = threads_by_tid(summary)[truth["threads"][1]["tid"]]
+    assert dead["worst_level"] == "ERROR"
+    assert any("thread exited inside a cycle" in v["what"] for v in summary["violations"])
+
+
+def test_sighup_reload_turns_ok_into_warn(tmp_path):
+    prefix = unique_prefix()
+    cfg = write(tmp_path, "rt.yaml", CLEAN.replace("PREFIX", prefix))
+    tr = Trace(["--config", str(cfg), "--comm", prefix + "-0", "-i", "300ms"])
+    lg = Loadgen(tmp_path, ["--name", prefix, "-n", "1", "-c", "4000"])
+    try:
+        time.sleep(1.5)
+        # a bad file is refused and the old rules stay
+        cfg.write_text("defaults:\n  perod: 1ms\n")
+        tr.proc.send_signal(signal.SIGHUP)
+        time.sleep(0.7)
+        # a latency threshold no thread can meet
+        cfg.write_text(CLEAN.replace("PREFIX", prefix) + "    thresholds:\n      latency: {p99_warn: 1ns}\n")
+        tr.proc.send_signal(signal.SIGHUP)
+        lg.summary()
+        intervals, summary, err = tr.stop()
+    finally:
+        lg.stop()
+    assert "rt.yaml:2:3: unknown key 'perod'" in err
+    assert "SIGHUP: keeping the previous rules" in err
+    assert "SIGHUP: reloaded" in err
+    levels = [i["threads"][0]["status"]["level"] for i in intervals if i["threads"]
+              and i["threads"][0]["interval"]["cycles"] > 100]
+    assert levels[0] == "OK"
+    assert "WARN" in levels
+    first_warn = levels.index("WARN")
+    assert all(lv == "OK" for lv in levels[:first_warn])
+    warn = [i for i in intervals if i["threads"] and i["threads"][0]["status"]["level"] == "WARN"]
+    assert any("wakeup latency p99" in m for m in warn[0]["threads"][0]["status"]["messages"])
+    # statistics were not lost by the reload
+    assert summary["threads"][0]["total"]["cycles"] >= 3900
+
+
+def test_record_replay_same_numbers_and_verdicts(tmp_path):
+    prefix = unique_prefix()
+    cfg = write(tmp_path, "rt.yaml", CLEAN.replace("PREFIX", prefix))
+    rec = tmp_path / "run.rtsup"
+    tr = Trace(["--config", str(cfg), "--comm", prefix + "-0", "--comm", prefix + "-1",
+                "--record", str(rec), "-i", "400ms"])
+    lg = Loadgen(tmp_path, ["--name", prefix, "-c", "2000", "-f", "mmap@700,thread=0",
+                            "-f", "overrun@1200", "-f", "pagefault:3@1500,thread=1"])
+    try:
+        lg.summary()
+        time.sleep(0.3)
+        _, live, _ = tr.stop()
+    finally:
+        lg.stop()
+    r = subprocess.run([str(TRACE), "replay", str(rec), "--config", str(cfg), "-j", "--check"],
+                       capture_output=True, text=True, timeout=60)
+    objs = [json.loads(x) for x in r.stdout.splitlines()]
+    replay = [o for o in objs if o["type"] == "summary"][0]
+    assert r.returncode == 2, r.stderr  # the mmap is a WARN: same exit code as --check live
+    got, want = threads_by_tid(replay), threads_by_tid(live)
+    assert set(got) == set(want)
+    for tid, w in want.items():
+        g = got[tid]
+        assert g["worst_level"] == w["worst_level"]
+        for key in ("cycles", "deadline_misses", "overruns", "unsafe", "unsafe_syscalls",
+                    "page_faults", "context_switches"):
+            assert g["total"][key] == w["total"][key], key
+        for m in ("period_ns", "exec_ns", "cpu_ns", "latency_ns"):
+            for k in ("count", "min", "max", "p50", "p99", "p999"):
+                assert g["total"][m].get(k) == w["total"][m].get(k), (m, k)
+            if w["total"][m]["count"]:
+                assert g["total"][m]["mean"] == pytest.approx(w["total"][m]["mean"])
+                assert g["total"][m]["ewma"] == pytest.approx(w["total"][m]["ewma"])
+    assert [v["what"] for v in replay["violations"]] == [v["what"] for v in live["violations"]]
+
+
+def test_corrupt_trace_errors_cleanly(tmp_path):
+    prefix = unique_prefix()
+    rec = tmp_path / "run.rtsup"
+    tr = Trace(["--comm", prefix + "-0", "--record", str(rec)])
+    lg = Loadgen(tmp_path, ["--name", prefix, "-n", "1", "-c", "500"])
+    try:
+        lg.summary()
+        tr.stop()
+    finally:
+        lg.stop()
+    data = rec.read_bytes()
+    cases = {
+        "truncated": data[:len(data) * 2 // 3],
+        "flipped": data[:len(data) // 2] + bytes([data[len(data) // 2] ^ 0xff]) +
+        data[len(data) // 2 + 1:],
+        "magic": b"NOTATRACE" + data[9:],
+        "empty": b"",
+    }
+    for name, blob in cases.items():
+        bad = tmp_path / (name + ".rtsup")
+        bad.write_bytes(blob)
+        r = subprocess.run([str(TRACE), "replay", str(bad)], capture_output=True, text=True,
+                           timeout=60)
+        assert r.returncode == 1, name
+        lines = r.stderr.strip().splitlines()
+        assert len(lines) == 1 and lines[0].startswith("rtsup-trace: " + str(bad)), (name, lines)
+        if name in ("truncated", "flipped"):
+            assert "offset" in lines[0]
+
+
+def test_perfetto_export_is_valid(tmp_path):
+    prefix = unique_prefix()
+    pf, rec = tmp_path / "live.json", tmp_path / "run.rtsup"
+    tr = Trace(["--comm", prefix + "-0", "--perfetto", str(pf), "--record", str(rec)])
+    lg = Loadgen(tmp_path, ["--name", prefix, "-n", "1", "-c", "800", "-f", "overrun@300",
+                            "-f", "openat@500"])
+    try:
+        truth = lg.summary()
+        time.sleep(0.2)
+        _, summary, _ = tr.stop()
+    finally:
+        lg.stop()
+    tid = truth["threads"][0]["tid"]
+    cycles = threads_by_tid(summary)[tid]["total"]["cycles"]
+    conv = tmp_path / "conv.json"
+    r = subprocess.run([str(TRACE), "replay", str(rec), "--perfetto", str(conv), "-j"],
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+    for path in (pf, conv):
+        doc = json.loads(path.read_text())
+        ev = doc["traceEvents"]
+        slices = [e for e in ev if e["ph"] == "X" and e["tid"] == tid]
+        assert len(slices) == cycles
+        assert all(e["dur"] > 0 and e["ts"] > 0 for e in slices)
+        assert sum(1 for e in slices if e["args"]["overrun"]) == 1
+        names = [e for e in ev if e["ph"] == "M" and e["name"] == "thread_name"
+                 and e["tid"] == tid]
+        assert names and names[0]["args"]["name"] == prefix + "-0"
+        instants = [e["name"] for e in ev if e["ph"] == "i" and e["tid"] == tid]
+        assert "deadline miss" in instants
+        assert any(n.startswith("unsafe") for n in instants)
+
+
+def test_check_config():
+    r = subprocess.run([str(TRACE), "--check-config", str(ROOT / "examples/rtsup-1khz.yaml")],
+                       capture_output=True, text=True)
+    assert r.returncode == 0 and 'name: "controller"' in r.stdout
+    r = subprocess.run([str(TRACE), "--check-config",
+                        str(ROOT / "tests/unit/config/bad-duration.yaml")],
+                       capture_output=True, text=True)
+    assert r.returncode == 1
+    line = r.stderr.strip()
+    assert line.startswith("rtsup-trace: ") and "bad-duration.yaml:" in line
+    assert "bad duration" in line
