@@ -59,7 +59,10 @@ static int on_event(void *ctx, void *data, size_t len)
 		c->events_over++;
 		return 0;
 	}
-	memcpy(&c->events[c->nevents++], data, sizeof(struct rtsup_event));
+	memcpy(&c->events[c->nevents], data, sizeof(struct rtsup_event));
+	c->events[c->nevents].comm[RTSUP_COMM_LEN - 1] = '\0';
+	comm_sanitize(c->events[c->nevents].comm, RTSUP_COMM_LEN);
+	c->nevents++;
 	return 0;
 }
 
@@ -198,6 +201,7 @@ static void refresh_identity(struct thread_model *tm)
 		/* once: what the rules match on */
 		if (thread_comm(tm->tgid, tm->tgid, tm->pcomm, sizeof(tm->pcomm)))
 			snprintf(tm->pcomm, sizeof(tm->pcomm), "%s", tm->comm);
+		comm_sanitize(tm->pcomm, sizeof(tm->pcomm));
 		read_cgroup(tm);
 	}
 
@@ -250,6 +254,8 @@ int collector_sample(struct collector *c)
 		tm->cur = *t;
 		tm->tgid = t->tgid;
 		memcpy(tm->comm, t->comm, RTSUP_COMM_LEN);
+		tm->comm[RTSUP_COMM_LEN - 1] = '\0';
+		comm_sanitize(tm->comm, RTSUP_COMM_LEN);
 		tm->alive = !t->exited;
 		if (tm->alive)
 			refresh_identity(tm);

@@ -15,6 +15,7 @@
 #include "record.h"
 #include "replay.h"
 #include "sinks.h"
+#include "targets.h"
 
 struct replay {
 	struct collector c;	/* the data the outputs read; no kernel behind it */
@@ -56,6 +57,10 @@ static void on_thread(struct replay *r, const struct rec_thread *rt)
 	memcpy(tm->comm, rt->comm, sizeof(tm->comm));
 	memcpy(t->comm, rt->comm, sizeof(t->comm));
 	memcpy(tm->pcomm, rt->pcomm, sizeof(tm->pcomm));
+	/* the file may come from anywhere: names stay printable and terminated */
+	tm->comm[RTSUP_COMM_LEN - 1] = tm->pcomm[RTSUP_COMM_LEN - 1] = '\0';
+	comm_sanitize(tm->comm, RTSUP_COMM_LEN);
+	comm_sanitize(tm->pcomm, RTSUP_COMM_LEN);
 	tm->policy = rt->exited ? -1 : rt->policy;
 	tm->prio = rt->prio;
 	tm->alive = !rt->exited;
@@ -111,10 +116,14 @@ static void on_event(struct replay *r, const struct rtsup_event *e)
 	if (r->pf && e->type != RTSUP_EV_NEW)
 		perfetto_event(r->pf, e);
 	c->events_total++;
-	if (c->nevents == COLLECTOR_MAX_EVENTS)
+	if (c->nevents == COLLECTOR_MAX_EVENTS) {
 		c->events_over++;
-	else
-		c->events[c->nevents++] = *e;
+		return;
+	}
+	c->events[c->nevents] = *e;
+	c->events[c->nevents].comm[RTSUP_COMM_LEN - 1] = '\0';
+	comm_sanitize(c->events[c->nevents].comm, RTSUP_COMM_LEN);
+	c->nevents++;
 }
 
 /* on_mark - an interval (or the run) ended: judge and report it */

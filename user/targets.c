@@ -49,6 +49,15 @@ int thread_comm(pid_t tgid, pid_t tid, char *buf, size_t len)
 	return 0;
 }
 
+void comm_sanitize(char *s, size_t len)
+{
+	size_t i;
+
+	for (i = 0; i < len && s[i]; i++)
+		if ((unsigned char)s[i] < 0x20 || (unsigned char)s[i] >= 0x7f)
+			s[i] = '?';
+}
+
 bool comm_matches(const struct targets *t, const char *comm)
 {
 	int i;

@@ -33,6 +33,11 @@ bool targets_any(const struct targets *t);
 int targets_scan(const struct targets *t, target_cb cb, void *ctx);
 /* thread_comm - read /proc/<tgid>/task/<tid>/comm, 0 on success */
 int thread_comm(pid_t tgid, pid_t tid, char *buf, size_t len);
+/*
+ * comm_sanitize - a thread name is any bytes: keep printable ASCII only, so
+ * tables stay aligned and JSON stays valid UTF-8
+ */
+void comm_sanitize(char *s, size_t len);
 /* process_exists - is there a process with this pid? */
 bool process_exists(pid_t pid);
 /* comm_matches - is this name one of the --comm targets? */
