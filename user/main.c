@@ -249,6 +249,8 @@ static int run_live(struct options *o, struct supervisor *s)
 	collector_sample(&c);
 	self_in(&self, &l, &c, s, &last_rt, &last_drops, (now - last) / 1e9);
 	supervise_interval(s, &c.model, c.bank, &self, now);
+	/* the last, partial interval: the intervals add up to the summary */
+	output_interval(&c, s, (now - start) / 1e9, (now - last) / 1e9);
 	output_summary(&c, s, (now - start) / 1e9);
 	if (sinks_close(&sk, &c, &self, now))
 		goto out;

@@ -146,12 +146,13 @@ static void on_mark(struct replay *r, const struct rec_interval *ri, bool end)
 	c->bank = r->epoch & 1;
 	r->epoch++;
 	supervise_interval(r->s, &c->model, c->bank, &self, ri->mono_ns);
+	/* like a live run: the last, partial interval, then the summary */
+	output_interval(c, r->s, (ri->mono_ns - r->start) / 1e9, (ri->mono_ns - r->last) / 1e9);
 	if (end) {
 		output_summary(c, r->s, (ri->mono_ns - r->start) / 1e9);
 		r->ended = true;
 		return;
 	}
-	output_interval(c, r->s, (ri->mono_ns - r->start) / 1e9, (ri->mono_ns - r->last) / 1e9);
 	r->last = ri->mono_ns;
 	collector_clear_events(c);
 	for (i = 0; i < c->model.n; i++) {
