@@ -9,11 +9,13 @@ BPFTOOL  ?= bpftool
 ARCH     := $(shell uname -m | sed 's/x86_64/x86/;s/aarch64/arm64/;s/ppc64le/powerpc/;s/riscv64/riscv/;s/s390x/s390/')
 VMLINUX_BTF ?= /sys/kernel/btf/vmlinux
 PREFIX   ?= /usr/local
+SYSCONFDIR ?= /etc
+UNITDIR  ?= $(PREFIX)/lib/systemd/system
 
 CFLAGS   ?= -O2 -g
 WARN     := -Wall -Wextra -Wno-unused-parameter
-INCLUDES := -Iinclude -I$(OUT)
-USER_LIBS := -lbpf -lelf -lz -ljansson -lyaml
+INCLUDES := -Iinclude -I$(OUT) -I/usr/include/libnl3
+USER_LIBS := -lbpf -lelf -lz -ljansson -lyaml -lnl-route-3 -lnl-3 -lsystemd -lmicrohttpd -lpthread
 CPPFLAGS += -D_GNU_SOURCE -MMD -MP
 
 ifeq ($(V),1)
@@ -29,7 +31,7 @@ USER_OBJS := $(patsubst user/%.c,$(OUT)/user/%.o,$(USER_SRCS))
 UNIT_SRCS := $(wildcard tests/unit/test_*.c)
 UNIT_BINS := $(patsubst tests/unit/%.c,$(OUT)/tests/%,$(UNIT_SRCS))
 
-.PHONY: all clean test unit integration deps demo bench format-check install
+.PHONY: all clean test unit integration deps demo bench format-check install soak
 .DELETE_ON_ERROR:
 # keep the BPF objects: the skeleton and the benchmark use them
 .SECONDARY:
@@ -93,6 +95,12 @@ UNIT_DEPS_test_perfetto := user/perfetto.c
 UNIT_LIBS_test_perfetto := -ljansson
 UNIT_DEPS_test_checks := user/checks.c user/model.c user/status.c
 UNIT_DEPS_test_status := user/status.c
+UNIT_DEPS_test_candump := user/candump.c
+UNIT_DEPS_test_prom := user/prom.c user/model.c user/status.c user/syscalls.c
+UNIT_DEPS_test_service := user/service.c user/status.c
+UNIT_LIBS_test_service := -lsystemd
+UNIT_DEPS_test_promexp := user/promexp.c
+UNIT_LIBS_test_promexp := -lmicrohttpd -lpthread
 .SECONDEXPANSION:
 $(OUT)/tests/%: tests/unit/%.c $$(UNIT_DEPS_$$*) $(OUT)/syscall_table.h | $(OUT)/tests
 	$(call msg,CC,$@)
@@ -124,6 +132,19 @@ install: all
 	install -D -m 0755 $(OUT)/rtsup-trace $(DESTDIR)$(PREFIX)/bin/rtsup-trace
 	install -D -m 0755 $(OUT)/rtsup-loadgen $(DESTDIR)$(PREFIX)/bin/rtsup-loadgen
 	install -D -m 0644 docs/rtsup-trace.8 $(DESTDIR)$(PREFIX)/share/man/man8/rtsup-trace.8
+	@# the unit and its configuration (docs/robot.md); a site's /etc files are kept
+	install -d $(DESTDIR)$(UNITDIR) $(DESTDIR)$(SYSCONFDIR)/rtsup
+	sed 's|@BINDIR@|$(PREFIX)/bin|g' systemd/rtsup-trace.service.in > $(DESTDIR)$(UNITDIR)/rtsup-trace.service
+	chmod 0644 $(DESTDIR)$(UNITDIR)/rtsup-trace.service
+	test -e $(DESTDIR)$(SYSCONFDIR)/rtsup/rtsup.yaml || \
+		install -m 0644 examples/rtsup-1khz.yaml $(DESTDIR)$(SYSCONFDIR)/rtsup/rtsup.yaml
+	test -e $(DESTDIR)$(SYSCONFDIR)/rtsup/rtsup-trace.env || \
+		install -m 0644 systemd/rtsup-trace.env $(DESTDIR)$(SYSCONFDIR)/rtsup/rtsup-trace.env
+	sed 's|@BINDIR@|$(PREFIX)/bin|g' systemd/listen.conf > $(DESTDIR)$(SYSCONFDIR)/rtsup/listen.conf.example
+
+# Weeks without a restart, in 10 minutes: thread churn under the tool (not in make test).
+soak: all
+	$(Q)scripts/soak
 
 clean:
 	$(Q)rm -rf $(OUT)

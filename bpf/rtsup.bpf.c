@@ -11,6 +11,7 @@
 #include <bpf/bpf_helpers.h>
 #include <bpf/bpf_tracing.h>
 #include <bpf/bpf_core_read.h>
+#include <bpf/bpf_endian.h>
 #include "core_fixes.bpf.h"
 
 #define RTSUP_INLINE static __always_inline
@@ -21,6 +22,7 @@
 static __always_inline void zero_mem(void *p, __u32 n);
 
 #include "cycle.h"
+#include "can.h"
 
 #define TIMER_ABSTIME	1
 #define SCHED_FIFO	1
@@ -39,6 +41,9 @@ const volatile __u32 cfg_cgroup;	/* --cgroup: match map cgroup */
 const volatile __u32 cfg_ncomm;
 const volatile __u32 cfg_record;	/* send every finished cycle (--record) */
 const volatile __u32 cfg_follow;	/* -- CMD: child processes are targets too */
+const volatile __u32 cfg_can_nif;	/* --can IFACE: how many; 0 = every CAN interface */
+const volatile __u32 cfg_can_if[8];
+const volatile __u32 cfg_canopen;	/* match CANopen SDO requests and responses */
 const volatile char cfg_comms[RTSUP_MAX_COMMS][RTSUP_COMM_LEN];
 
 /* Written by userspace while running. */
@@ -106,6 +111,27 @@ struct {
 	__uint(type, BPF_MAP_TYPE_RINGBUF);
 	__uint(max_entries, 256 * 1024);
 } events SEC(".maps");
+
+struct {
+	__uint(type, BPF_MAP_TYPE_HASH);
+	__uint(max_entries, 4096);	/* --can-max-ids */
+	__type(key, struct rtsup_can_key);
+	__type(value, struct rtsup_can_id);
+} can_ids SEC(".maps");
+
+struct {
+	__uint(type, BPF_MAP_TYPE_HASH);
+	__uint(max_entries, 64);
+	__type(key, __u32);
+	__type(value, struct rtsup_can_if);
+} can_ifs SEC(".maps");
+
+struct {
+	__uint(type, BPF_MAP_TYPE_ARRAY);
+	__uint(max_entries, 1);
+	__type(key, __u32);
+	__type(value, struct rtsup_can_id);
+} zero_can SEC(".maps");
 
 /* Every finished cycle, only when recording; sized by userspace. */
 struct {
@@ -530,6 +556,124 @@ static __always_inline int on_signal(int sig)
 	return 0;
 }
 
+#define PACKET_LOOPBACK	5
+
+/* lookup_or_add - a map entry, created from a zero value on first use */
+static __always_inline void *lookup_or_add(void *map, const void *key, const void *zero)
+{
+	void *v = bpf_map_lookup_elem(map, key);
+
+	if (v || !zero)
+		return v;
+	bpf_map_update_elem(map, key, zero, BPF_NOEXIST);
+	return bpf_map_lookup_elem(map, key);
+}
+
+/* can_if_wanted - is this one of the --can interfaces? */
+static __always_inline int can_if_wanted(__u32 ifindex)
+{
+	__u32 i;
+
+	if (!cfg_can_nif)
+		return 1;
+	for (i = 0; i < 8 && i < cfg_can_nif; i++)
+		if (cfg_can_if[i] == ifindex)
+			return 1;
+	return 0;
+}
+
+/* can_sdo_response - CANopen: time from a node's SDO request to its response */
+static __always_inline void can_sdo_response(struct rtsup_can_id *v, __u32 ifindex, __u32 id,
+					     __u64 now)
+{
+	struct rtsup_can_key rk = { .ifindex = ifindex, .can_id = id + 0x80 };
+	struct rtsup_can_id *req;
+	__u32 d;
+
+	for (d = 0; d < RTSUP_CAN_DIRS; d++) {
+		rk.dir = d;
+		req = bpf_map_lookup_elem(&can_ids, &rk);
+		if (can_sdo_match(v, req, now))
+			return;
+	}
+}
+
+/* on_can - one SocketCAN frame leaving (tx) or arriving (rx) */
+static __always_inline int on_can(const struct sk_buff *skb, __u32 dir)
+{
+	__u16 proto = bpf_ntohs(BPF_CORE_READ(skb, protocol));
+	struct rtsup_can_key key = { .dir = dir };
+	struct rtsup_canxl_head xl;
+	struct rtsup_can_frame f;
+	struct rtsup_can_if *ifs, zif = {};
+	struct rtsup_can_id *v;
+	__u32 kind, zero = 0, tid, id, len;
+	struct rtsup_thread *t;
+	unsigned char *data;
+	__u64 now;
+
+	/* anything but CAN costs this one compare */
+	if ((__u16)(proto - RTSUP_ETH_P_CAN) > RTSUP_ETH_P_CANXL - RTSUP_ETH_P_CAN)
+		return 0;
+	key.ifindex = BPF_CORE_READ(skb, dev, ifindex);
+	if (!can_if_wanted(key.ifindex))
+		return 0;
+	now = bpf_ktime_get_ns();
+	kind = proto - RTSUP_ETH_P_CAN;
+	data = BPF_CORE_READ(skb, data);
+	if (kind == RTSUP_CAN_XL) {
+		if (bpf_probe_read_kernel(&xl, sizeof(xl), data))
+			return 0;
+		__builtin_memset(&f, 0, sizeof(f));
+		f.can_id = xl.prio & RTSUP_CAN_SFF_MASK;
+		len = xl.len;
+		bpf_probe_read_kernel(f.data, sizeof(f.data), data + sizeof(xl));
+	} else {
+		if (bpf_probe_read_kernel(&f, sizeof(f), data))
+			return 0;
+		len = f.len;
+	}
+	ifs = lookup_or_add(&can_ifs, &key.ifindex, &zif);
+	if (!ifs)
+		return 0;
+	/*
+	 * af_can (can_send) and echo-capable drivers (can_put_echo_skb) loop our
+	 * own sends back as rx, PACKET_BROADCAST like a frame from the bus, but
+	 * still owned by the sending socket: a frame from the bus has no skb->sk
+	 */
+	if (dir == RTSUP_CAN_RX && (BPF_CORE_READ(skb, sk) ||
+	    BPF_CORE_READ_BITFIELD_PROBED(skb, pkt_type) == PACKET_LOOPBACK)) {
+		__sync_fetch_and_add(&ifs->loopback, 1);
+		return 0;
+	}
+	can_if_account(ifs, now, dir, f.can_id, len, kind, f.data);
+	if (f.can_id & RTSUP_CAN_ERR_FLAG)
+		return 0;
+	id = can_key_id(f.can_id);
+	key.can_id = id;
+	v = lookup_or_add(&can_ids, &key, bpf_map_lookup_elem(&zero_can, &zero));
+	if (!v) {
+		count(RTSUP_C_CAN_FULL);
+		return 0;
+	}
+	if (cfg_canopen && can_is_sdo_response(id))
+		can_sdo_response(v, key.ifindex, id, now);
+	can_id_account(v, now, f.can_id, len, f.data, cfg_ewma_w, epoch);
+	if (dir != RTSUP_CAN_TX)
+		return 0;
+	/* the sending thread and where in its cycle it sent */
+	tid = (__u32)bpf_get_current_pid_tgid();
+	v->tx_tid = tid;
+	t = bpf_map_lookup_elem(&threads, &tid);
+	if (t && t->cs.start && !t->cs.in_delim && now >= t->cs.start) {
+		v->tx_in_cycle++;
+		v->tx_offset_sum += now - t->cs.start;
+		if (now - t->cs.start > v->tx_offset_max)
+			v->tx_offset_max = now - t->cs.start;
+	}
+	return 0;
+}
+
 /*
  * The two program sets. RTSUP_EMPTY builds the same hooks with empty bodies:
  * the floor that the benchmark compares against.
@@ -571,7 +715,17 @@ SEC(kind "/signal_deliver")							\
 int BPF_PROG(signal_deliver_##sfx, int sig)					\
 { return BODY(on_signal(sig)); }
 
+#define RTSUP_CAN_PROGS(kind, sfx)						\
+SEC(kind "/net_dev_start_xmit")							\
+int BPF_PROG(can_xmit_##sfx, const struct sk_buff *skb)				\
+{ return BODY(on_can(skb, RTSUP_CAN_TX)); }					\
+SEC(kind "/netif_receive_skb")							\
+int BPF_PROG(can_recv_##sfx, const struct sk_buff *skb)				\
+{ return BODY(on_can(skb, RTSUP_CAN_RX)); }
+
 RTSUP_PROGS("tp_btf", btf)
 RTSUP_PROGS("raw_tp", raw)
+RTSUP_CAN_PROGS("tp_btf", btf)
+RTSUP_CAN_PROGS("raw_tp", raw)
 
 char LICENSE[] SEC("license") = "Dual BSD/GPL";

@@ -227,6 +227,7 @@ enum rtsup_counter {
 	RTSUP_C_SYS_FULL,	/* unsafe_sys entries we could not add */
 	RTSUP_C_NEW,		/* threads added by the kernel side */
 	RTSUP_C_CYC_DROPS,	/* cycle records the recording buffer had no room for */
+	RTSUP_C_CAN_FULL,	/* CAN frames whose identifier did not fit the id map */
 	RTSUP_C_NR,
 };
 

@@ -51,6 +51,12 @@ enum {
 	OPT_RECORD,
 	OPT_PERFETTO,
 	OPT_NO_OVERHEAD,
+	OPT_PROM_TEXTFILE,
+	OPT_LISTEN,
+	OPT_UNIT,
+	OPT_CAN,
+	OPT_BITRATE,
+	OPT_CAN_MAX_IDS,
 };
 
 static const struct argp_option opts[] = {
@@ -77,6 +83,13 @@ static const struct argp_option opts[] = {
 	{ "record", OPT_RECORD, "FILE", 0, "Record every cycle and rare event to FILE", 0 },
 	{ "perfetto", OPT_PERFETTO, "FILE", 0, "Write a Perfetto (Chrome JSON) trace to FILE", 0 },
 	{ "no-overhead", OPT_NO_OVERHEAD, NULL, 0, "Do not switch on BPF run-time statistics (no overhead check)", 0 },
+	{ "unit", OPT_UNIT, "NAME", 0, "Every thread of a systemd unit's cgroup, followed across restarts", 0 },
+	{ "prom-textfile", OPT_PROM_TEXTFILE, "PATH", 0, "Write Prometheus metrics to PATH every interval (node_exporter textfile)", 0 },
+	{ "listen", OPT_LISTEN, "ADDR:PORT", 0, "Serve Prometheus metrics at http://ADDR:PORT/metrics (default address 127.0.0.1)", 0 },
+	{ "can", OPT_CAN, "IFACE", OPTION_ARG_OPTIONAL,
+	  "Supervise a CAN interface (repeatable); without IFACE every CAN interface", 0 },
+	{ "bitrate", OPT_BITRATE, "BPS", 0, "CAN bitrate for the bus load when the interface does not tell (vcan)", 0 },
+	{ "can-max-ids", OPT_CAN_MAX_IDS, "N", 0, "Capacity of the CAN identifier map (default 4096)", 0 },
 	{},
 };
 
@@ -251,14 +264,49 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 	case OPT_NO_OVERHEAD:
 		o->no_overhead = true;
 		break;
+	case OPT_UNIT:
+		if (!*arg || strchr(arg, '/') || strlen(arg) > 200)
+			return bad(st, "--unit", arg, "want a unit name such as ctrl.service");
+		o->unit = arg;
+		break;
+	case OPT_PROM_TEXTFILE:
+		o->prom_textfile = arg;
+		break;
+	case OPT_LISTEN:
+		o->listen = arg;
+		break;
+	case OPT_CAN:
+		o->can = true;
+		if (!arg)
+			break;
+		if (o->ncan == 8)
+			return bad(st, "--can", arg, "at most 8 interfaces");
+		if (!*arg || strlen(arg) >= 16)
+			return bad(st, "--can", arg, "not an interface name");
+		o->can_ifs[o->ncan++] = arg;
+		break;
+	case OPT_BITRATE:
+		if (parse_long(arg, 1000, 20000000, &v))
+			return bad(st, "--bitrate", arg, "want bits per second, 1000 to 20000000");
+		o->can_bitrate = v;
+		break;
+	case OPT_CAN_MAX_IDS:
+		if (parse_long(arg, 16, 1 << 20, &v))
+			return bad(st, "--can-max-ids", arg, "want a number from 16 to 1048576");
+		o->can_max_ids = v;
+		break;
 	case ARGP_KEY_ARG:
 		if (o->replay_path && !*o->replay_path) {
 			o->replay_path = arg;	/* replay FILE */
 			break;
 		}
+		if (o->can_replay_path && !*o->can_replay_path) {
+			o->can_replay_path = arg;	/* can-replay FILE */
+			break;
+		}
 		return ARGP_ERR_UNKNOWN;	/* the command: ARGP_KEY_ARGS */
 	case ARGP_KEY_ARGS:
-		if (o->replay_path) {
+		if (o->replay_path || o->can_replay_path) {
 			fprintf(stderr, "rtsup-trace: replay: unexpected argument '%s'\n",
 				st->argv[st->next]);
 			return EINVAL;
@@ -270,8 +318,18 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 			fprintf(stderr, "rtsup-trace: replay: which file? (rtsup-trace replay FILE)\n");
 			return EINVAL;
 		}
-		if (!targets_any(t) && !o->cmd && !o->check_config && !o->replay_path) {
-			fprintf(stderr, "rtsup-trace: no target: give --pid, --tid, --comm, --rt or --cgroup\n");
+		if (o->can_replay_path && !*o->can_replay_path) {
+			fprintf(stderr, "rtsup-trace: can-replay: which file? "
+				"(rtsup-trace can-replay FILE)\n");
+			return EINVAL;
+		}
+		if (!targets_any(t) && !o->cmd && !o->check_config && !o->replay_path &&
+		    !o->can_replay_path && !o->can && !o->unit) {
+			fprintf(stderr, "rtsup-trace: no target: give --pid, --tid, --comm, --rt, --cgroup or --unit\n");
+			return EINVAL;
+		}
+		if (o->unit && t->cgroup) {
+			fprintf(stderr, "rtsup-trace: --unit and --cgroup: give one of them\n");
 			return EINVAL;
 		}
 		break;
@@ -279,6 +337,29 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 		return ARGP_ERR_UNKNOWN;
 	}
 	return 0;
+}
+
+/*
+ * join_can_arg - "--can can0" means "--can=can0": argp's optional arguments
+ * only come attached, and a bare --can means every interface
+ */
+static int join_can_arg(int argc, char **argv)
+{
+	static char buf[8][32];
+	int i, n = 0;
+
+	for (i = 1; i < argc - 1 && n < 8; i++) {
+		if (!strcmp(argv[i], "--"))
+			break;
+		if (strcmp(argv[i], "--can") || argv[i + 1][0] == '-' || !argv[i + 1][0])
+			continue;
+		snprintf(buf[n], sizeof(buf[n]), "--can=%s", argv[i + 1]);
+		argv[i] = buf[n++];
+		/* the interface is now part of the option: drop its own slot */
+		memmove(&argv[i + 1], &argv[i + 2], (argc - i - 2) * sizeof(*argv));
+		argv[--argc] = NULL;
+	}
+	return argc;
 }
 
 int options_parse(int argc, char **argv, struct options *o)
@@ -294,13 +375,18 @@ int options_parse(int argc, char **argv, struct options *o)
 	o->delims[1] = "nanosleep";
 	o->ndelims = 2;
 	o->fail_on = LEVEL_WARN;
+	o->can_max_ids = 4096;
 	/* argp's own usage errors exit with our "tool error" status */
 	argp_err_exit_status = 1;
-	if (argc > 1 && !strcmp(argv[1], "replay")) {
+	if (argc > 1 && (!strcmp(argv[1], "replay") || !strcmp(argv[1], "can-replay"))) {
 		/* "replay FILE [options]": argp sees FILE as the first argument */
-		o->replay_path = "";
+		if (!strcmp(argv[1], "replay"))
+			o->replay_path = "";
+		else
+			o->can_replay_path = "";
 		argv[1] = argv[0];
 		return argp_parse(&argp, argc - 1, argv + 1, 0, NULL, o) ? -1 : 0;
 	}
+	argc = join_can_arg(argc, argv);
 	return argp_parse(&argp, argc, argv, 0, NULL, o) ? -1 : 0;
 }

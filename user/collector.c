@@ -125,6 +125,11 @@ int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct opt
 	return 0;
 }
 
+int collector_scan(struct collector *c, const struct targets *t)
+{
+	return targets_scan(t, add_initial, c);
+}
+
 int collector_poll(struct collector *c, int ms)
 {
 	int err = ring_buffer__poll(c->rb, ms);
@@ -236,9 +241,11 @@ int collector_sample(struct collector *c)
 		}
 		tm->alive = false;
 	}
+	c->map_entries = 0;
 	while (!bpf_map_get_next_key(fd, prev, &next)) {
 		key = next;
 		prev = &key;
+		c->map_entries++;
 		if (bpf_map_lookup_elem(fd, &key, t))
 			continue;
 		tm = model_get(&c->model, key, true);
@@ -303,6 +310,7 @@ void collector_reap(struct collector *c)
 		bpf_map_delete_elem(bpf_map__fd(c->skel->maps.thread_cfg), &tm->tid);
 		forget_sys(c, tm->tid);
 	}
+	model_prune_dead(&c->model, MODEL_KEEP_DEAD);
 	/* processes that are gone must not match a reused pid */
 	while (!bpf_map_get_next_key(tfd, prev, &next)) {
 		key = next;

@@ -29,6 +29,7 @@ struct collector {
 	__u64 events_total;
 	__s64 real_off;			/* CLOCK_REALTIME - CLOCK_MONOTONIC, ns */
 	__u64 start_ns;			/* monotonic start */
+	__u32 map_entries;		/* entries of the thread map at the last sample */
 	/* sinks that want every cycle and event as it comes (--record, --perfetto) */
 	void (*on_cycle)(void *ctx, const struct rtsup_cycle_rec *r);
 	void (*on_rare)(void *ctx, const struct rtsup_event *e);
@@ -37,6 +38,8 @@ struct collector {
 
 /* collector_init - ring buffer, initial scan of the targets */
 int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct options *o);
+/* collector_scan - add the threads of these targets found now (e.g. a restarted unit) */
+int collector_scan(struct collector *c, const struct targets *t);
 /* collector_poll - wait up to ms for rare events */
 int collector_poll(struct collector *c, int ms);
 /* collector_sample - end an interval: refresh the model from the maps */

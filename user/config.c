@@ -5,7 +5,9 @@
  * libyaml builds the document tree; this file only walks it. Every key a
  * rule or the defaults may give is described once, in the field tables
  * below: the same tables parse, merge and print, so the printed form reads
- * back to the same configuration.
+ * back to the same configuration. The can: section (bus thresholds and
+ * named CAN nodes) uses the same tables over struct can_config and
+ * struct can_node.
  */
 #include <errno.h>
 #include <fnmatch.h>
@@ -18,6 +20,7 @@
 #include <strings.h>
 #include <yaml.h>
 #include "config.h"
+#include "can.h"
 #include "syscalls.h"
 
 #ifndef SCHED_DEADLINE
@@ -50,16 +53,20 @@ enum ftype {
 	F_POLICY,	/* int SCHED_*, -1 any */
 	F_PRIO,		/* int 1..99, -1 any */
 	F_SYSLIST,	/* char [][32] at .off, int count at .off2 */
-	F_GROUP,	/* nested map, keys in .sub */
+	F_GROUP,	/* nested map, keys in .sub, their offsets from here + .off */
+	F_STR,		/* char [.max], not empty */
+	F_IFACE,	/* char [16], a network interface name, "any" = "" */
+	F_CANID,	/* __u32 id_lo at .off, id_hi at .off2: a CAN id or range */
+	F_CANDIR,	/* int RTSUP_CAN_RX, RTSUP_CAN_TX or CAN_DIR_ANY */
 };
 
 struct field {
 	const char *key;
 	enum ftype type;
-	size_t off;		/* from the start of struct rule */
+	size_t off;		/* from the start of the struct the table describes */
 	size_t off2;
 	double max;
-	__u32 flag;		/* RF_* bit the key sets */
+	__u32 flag;		/* bit the key sets: RF_* of a rule, NF_* of a node */
 	const struct field *sub;
 	const char *what;	/* what an unknown key of a group is, "key" if NULL */
 };
@@ -150,6 +157,75 @@ static const struct field rule_f[] = {
 	{},
 };
 
+/* The can: section. Offsets from struct can_config, can_thresholds, can_node. */
+#define CC(m)	offsetof(struct can_config, m)
+#define CT(m)	offsetof(struct can_thresholds, m)
+#define N(m)	offsetof(struct can_node, m)
+#define IFACE_LEN	sizeof(((struct can_node *)0)->iface)
+
+/* Bits of a node's keys, to tell which were given (parse only). */
+enum node_field {
+	NF_ID = 1 << 0,
+};
+
+static const struct field busload_f[] = {
+	{ .key = "warn", .type = F_RATIO, .off = CC(busload_warn), .max = 1 },
+	{ .key = "error", .type = F_RATIO, .off = CC(busload_error), .max = 1 },
+	{},
+};
+
+static const struct field errframes_f[] = {
+	{ .key = "warn", .type = F_COUNT, .off = CC(err_warn) },
+	{ .key = "error", .type = F_COUNT, .off = CC(err_error) },
+	{},
+};
+
+static const struct field responding_f[] = {
+	{ .key = "warn_periods", .type = F_NUMBER, .off = CT(warn_periods) },
+	{ .key = "error_periods", .type = F_NUMBER, .off = CT(error_periods) },
+	{},
+};
+
+static const struct field can_jitter_f[] = {
+	{ .key = "warn", .type = F_DURATION, .off = CT(jitter_warn_ns) },
+	{ .key = "error", .type = F_DURATION, .off = CT(jitter_error_ns) },
+	{},
+};
+
+/* the keys of can.defaults (from struct can_thresholds) */
+static const struct field can_th_f[] = {
+	{ .key = "not_responding", .type = F_GROUP, .sub = responding_f },
+	{ .key = "jitter", .type = F_GROUP, .sub = can_jitter_f },
+	{ .key = "learn", .type = F_SECONDS, .off = CT(learn_s) },
+	{ .key = "init_timeout", .type = F_SECONDS, .off = CT(init_timeout_s) },
+	{},
+};
+
+/* the keys of can: besides nodes */
+static const struct field can_f[] = {
+	{ .key = "canopen", .type = F_BOOL, .off = CC(canopen) },
+	{ .key = "bitrate", .type = F_COUNT, .off = CC(bitrate) },
+	{ .key = "bus_load", .type = F_GROUP, .sub = busload_f },
+	{ .key = "error_frames", .type = F_GROUP, .sub = errframes_f },
+	{ .key = "heartbeat_timeout", .type = F_DURATION, .off = CC(heartbeat_timeout_ns) },
+	{ .key = "defaults", .type = F_GROUP, .off = CC(defaults), .sub = can_th_f },
+	{},
+};
+
+/* the keys of a node besides name: its own, then can.defaults' over its th */
+static const struct field node_f[] = {
+	{ .key = "interface", .type = F_IFACE, .off = N(iface), .max = IFACE_LEN },
+	{ .key = "id", .type = F_CANID, .off = N(id_lo), .off2 = N(id_hi), .flag = NF_ID },
+	{ .key = "direction", .type = F_CANDIR, .off = N(dir) },
+	{ .key = "period", .type = F_DURATION, .off = N(period_ns) },
+	{ .key = "group", .type = F_STR, .off = N(group), .max = CONFIG_NAME_LEN },
+	{ .key = "not_responding", .type = F_GROUP, .off = N(th), .sub = responding_f },
+	{ .key = "jitter", .type = F_GROUP, .off = N(th), .sub = can_jitter_f },
+	{ .key = "learn", .type = F_SECONDS, .off = N(th) + CT(learn_s) },
+	{ .key = "init_timeout", .type = F_SECONDS, .off = N(th) + CT(init_timeout_s) },
+	{},
+};
+
 static const struct {
 	const char *name;
 	int policy;
@@ -170,9 +246,13 @@ struct parse {
 	yaml_document_t *doc;
 	char *err;
 	size_t errlen;
-	char where[CONFIG_NAME_LEN + 16];	/* "defaults" or "rule 'x'" */
-	bool rule;				/* in a rule: name and match allowed */
+	char where[CONFIG_NAME_LEN + 16];	/* "defaults", "rule 'x'", "can node 'x'" or "" */
 };
+
+/* the keys a rule's and a node's callers handle themselves */
+static const char *const rule_own[] = { "name", "match", NULL };
+static const char *const node_own[] = { "name", NULL };
+static const char *const can_own[] = { "nodes", NULL };
 
 /* fail - write "file:line:column: message" for a node, return -1 */
 static int __attribute__((format(printf, 3, 4)))
@@ -397,10 +477,10 @@ static int parse_policy(const char *s, int *policy)
 
 /* parse_syslist - a list of syscall names known on this architecture */
 static int parse_syslist(struct parse *p, const struct field *f, yaml_node_t *v,
-			 struct rule *r)
+			 void *obj)
 {
-	char (*names)[SYSNAME_LEN] = (void *)((char *)r + f->off);
-	int *count = (int *)((char *)r + f->off2);
+	char (*names)[SYSNAME_LEN] = (void *)((char *)obj + f->off);
+	int *count = (int *)((char *)obj + f->off2);
 	yaml_node_item_t *it;
 	int n = 0;
 
@@ -429,7 +509,10 @@ static int parse_syslist(struct parse *p, const struct field *f, yaml_node_t *v,
 }
 
 static int parse_group(struct parse *p, const struct field *fields, yaml_node_t *map,
-		       struct rule *r, const char *path, const char *what);
+		       void *obj, __u32 *set, const char *path, const char *what,
+		       const char *const *own);
+static int copy_str(struct parse *p, yaml_node_t *v, const char *key, char *dst,
+		    size_t len);
 
 /* parse_number - a double field: F_NUMBER, F_RATIO, F_PERCENT, F_EWMA */
 static int parse_number(struct parse *p, const struct field *f, yaml_node_t *v,
@@ -480,11 +563,90 @@ static int parse_prio(struct parse *p, yaml_node_t *v, int *prio)
 	return 0;
 }
 
-/* parse_field - one key's value into the rule */
-static int parse_field(struct parse *p, const struct field *f, yaml_node_t *v,
-		       struct rule *r, const char *path)
+/*
+ * parse_id_num - one CAN identifier of an id: key, "0x181" or "385";
+ * 0 ok, -1 not a number, -2 above 0x1FFFFFFF. Eight hex digits, as
+ * candump writes 29-bit ids, make a 29-bit id even when it is small.
+ */
+static int parse_id_num(const char *s, size_t n, __u32 *id, bool *eff)
 {
-	void *dst = (char *)r + f->off;
+	bool hex = n > 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X');
+	size_t i = hex ? 2 : 0, digits = n - i;
+	__u64 v = 0;
+
+	if (!digits)
+		return -1;
+	for (; i < n; i++) {
+		int d;
+
+		if (s[i] >= '0' && s[i] <= '9')
+			d = s[i] - '0';
+		else if (hex && s[i] >= 'a' && s[i] <= 'f')
+			d = s[i] - 'a' + 10;
+		else if (hex && s[i] >= 'A' && s[i] <= 'F')
+			d = s[i] - 'A' + 10;
+		else
+			return -1;
+		/* keep scanning the digits, but stop growing once out of range */
+		if (v <= RTSUP_CAN_EFF_MASK)
+			v = v * (hex ? 16 : 10) + d;
+	}
+	if (v > RTSUP_CAN_EFF_MASK)
+		return -2;
+	*id = (__u32)v;
+	*eff = v > RTSUP_CAN_SFF_MASK || (hex && digits == 8);
+	return 0;
+}
+
+/* parse_canid - id: a CAN identifier or an inclusive range "lo-hi" */
+static int parse_canid(struct parse *p, yaml_node_t *v, __u32 *lo, __u32 *hi)
+{
+	const char *s = text(v), *dash = strchr(s, '-');
+	size_t n1 = dash ? (size_t)(dash - s) : strlen(s);
+	bool e1, e2;
+	__u32 a, b;
+	int r1, r2;
+
+	r1 = parse_id_num(s, n1, &a, &e1);
+	r2 = dash ? parse_id_num(dash + 1, strlen(dash + 1), &b, &e2) : r1;
+	if (r1 == -1 || r2 == -1)
+		return fail(p, v, "bad id '%s' (want e.g. 0x181, or a range 0x180-0x1ff)", s);
+	if (r1 || r2)
+		return fail(p, v, "id '%s' out of range (want 0..0x1FFFFFFF)", s);
+	if (!dash) {
+		b = a;
+		e2 = e1;
+	}
+	if (e1 != e2)
+		return fail(p, v, "id range '%s' mixes 11-bit and 29-bit ids", s);
+	if (a > b)
+		return fail(p, v, "id range '%s' is reversed (want low-high)", s);
+	*lo = a | (e1 ? RTSUP_CAN_EFF_FLAG : 0);
+	*hi = b | (e1 ? RTSUP_CAN_EFF_FLAG : 0);
+	return 0;
+}
+
+/* parse_iface - a network interface name as the kernel allows it, or any */
+static int parse_iface(struct parse *p, const struct field *f, yaml_node_t *v, char *dst)
+{
+	const char *s = text(v);
+
+	if (!strcmp(s, "any")) {
+		dst[0] = '\0';
+		return 0;
+	}
+	if (copy_str(p, v, f->key, dst, (size_t)f->max))
+		return -1;
+	if (!strcmp(s, ".") || !strcmp(s, "..") || strpbrk(s, "/: \t\n\r\v\f"))
+		return fail(p, v, "bad interface name '%s'", s);
+	return 0;
+}
+
+/* parse_field - one key's value into the rule, can config or node */
+static int parse_field(struct parse *p, const struct field *f, yaml_node_t *v,
+		       void *obj, __u32 *set, const char *path)
+{
+	void *dst = (char *)obj + f->off;
 	const char *s;
 	char name[64];
 	__u64 u;
@@ -492,9 +654,9 @@ static int parse_field(struct parse *p, const struct field *f, yaml_node_t *v,
 	/* the dotted name, e.g. thresholds.latency.max_error, for messages */
 	snprintf(name, sizeof(name), "%s%s%s", path, *path ? "." : "", f->key);
 	if (f->type == F_GROUP)
-		return parse_group(p, f->sub, v, r, name, f->what);
+		return parse_group(p, f->sub, v, dst, set, name, f->what, NULL);
 	if (f->type == F_SYSLIST)
-		return parse_syslist(p, f, v, r);
+		return parse_syslist(p, f, v, obj);
 	if (scalar(p, v, name, &s))
 		return -1;
 	switch (f->type) {
@@ -528,6 +690,22 @@ static int parse_field(struct parse *p, const struct field *f, yaml_node_t *v,
 		return 0;
 	case F_PRIO:
 		return parse_prio(p, v, dst);
+	case F_STR:
+		return copy_str(p, v, f->key, dst, (size_t)f->max);
+	case F_IFACE:
+		return parse_iface(p, f, v, dst);
+	case F_CANID:
+		return parse_canid(p, v, dst, (__u32 *)((char *)obj + f->off2));
+	case F_CANDIR:
+		if (!strcasecmp(s, "rx"))
+			*(int *)dst = RTSUP_CAN_RX;
+		else if (!strcasecmp(s, "tx"))
+			*(int *)dst = RTSUP_CAN_TX;
+		else if (!strcasecmp(s, "any"))
+			*(int *)dst = CAN_DIR_ANY;
+		else
+			return fail(p, v, "unknown direction '%s' (want rx, tx or any)", s);
+		return 0;
 	default:
 		return parse_number(p, f, v, name, dst);
 	}
@@ -553,21 +731,37 @@ static const struct field *lookup(const struct field *fields, const char *key)
 	return NULL;
 }
 
-/* in_where - "in rule 'x'" or "in thresholds.latency of rule 'x'" */
+/*
+ * in_where - "in rule 'x'" or "in thresholds.latency of rule 'x'"; in the
+ * can: map, where is "" and the path says it all: "in can.bus_load"
+ */
 static void in_where(const struct parse *p, const char *path, char *in, size_t len)
 {
-	if (*path)
+	if (!p->where[0])
+		snprintf(in, len, "in %s", path);
+	else if (*path)
 		snprintf(in, len, "in %s of %s", path, p->where);
 	else
 		snprintf(in, len, "in %s", p->where);
 }
 
+/* is_own - a key the caller of parse_group handles itself */
+static bool is_own(const char *const *own, const char *key)
+{
+	for (; own && *own; own++)
+		if (!strcmp(*own, key))
+			return true;
+	return false;
+}
+
 /*
- * parse_group - a map of keys of one field table, over the rule's values;
- * path is where the map is ("" for the rule itself), what names its keys
+ * parse_group - a map of keys of one field table, over the values at obj;
+ * path is where the map is ("" for the rule itself), what names its keys,
+ * own the keys the caller handles; set collects the keys' flag bits
  */
 static int parse_group(struct parse *p, const struct field *fields, yaml_node_t *map,
-		       struct rule *r, const char *path, const char *what)
+		       void *obj, __u32 *set, const char *path, const char *what,
+		       const char *const *own)
 {
 	const struct field *f;
 	yaml_node_t *k, *v;
@@ -580,9 +774,8 @@ static int parse_group(struct parse *p, const struct field *fields, yaml_node_t 
 	for (i = 0; i < npairs(map); i++) {
 		if (pair(p, map, i, &k, &v, in))
 			return -1;
-		/* name and match are a rule's own keys, handled by parse_rule */
-		if (p->rule && !*path &&
-		    (!strcmp(text(k), "name") || !strcmp(text(k), "match")))
+		/* e.g. name and match of a rule, handled by parse_rule */
+		if (is_own(own, text(k)))
 			continue;
 		f = lookup(fields, text(k));
 		if (!f && what) {
@@ -592,9 +785,10 @@ static int parse_group(struct parse *p, const struct field *fields, yaml_node_t 
 		}
 		if (!f)
 			return fail(p, k, "unknown key '%s' %s", text(k), in);
-		if (parse_field(p, f, v, r, path))
+		if (parse_field(p, f, v, obj, set, path))
 			return -1;
-		r->set |= f->flag;
+		if (set)
+			*set |= f->flag;
 	}
 	return 0;
 }
@@ -700,8 +894,8 @@ static int conflicts(struct parse *p, yaml_node_t *map, const struct rule *r)
 	return 0;
 }
 
-/* find_name - the node of a rule's name: key, or NULL */
-static yaml_node_t *find_name(struct parse *p, yaml_node_t *map)
+/* find_key - the value of a key of a map (a rule's or node's name), or NULL */
+static yaml_node_t *find_key(struct parse *p, yaml_node_t *map, const char *key)
 {
 	yaml_node_pair_t *pp;
 
@@ -710,7 +904,7 @@ static yaml_node_t *find_name(struct parse *p, yaml_node_t *map)
 	for (pp = map->data.mapping.pairs.start; pp < map->data.mapping.pairs.top; pp++) {
 		yaml_node_t *k = node(p, pp->key);
 
-		if (k->type == YAML_SCALAR_NODE && !strcmp(text(k), "name"))
+		if (k->type == YAML_SCALAR_NODE && !strcmp(text(k), key))
 			return node(p, pp->value);
 	}
 	return NULL;
@@ -726,12 +920,11 @@ static int parse_rule(struct parse *p, yaml_node_t *map, struct config *c, int i
 
 	if (want(p, map, YAML_MAPPING_NODE, "a rule"))
 		return -1;
-	p->rule = true;
 	*r = c->defaults;
 	r->set = 0;
 	r->line = map->start_mark.line + 1;
 	memset(r->name, 0, sizeof(r->name));
-	name = find_name(p, map);
+	name = find_key(p, map, "name");
 	if (!name)
 		return fail(p, map, "rule %d has no name", idx + 1);
 	if (copy_str(p, name, "rule name", r->name, CONFIG_NAME_LEN))
@@ -748,7 +941,7 @@ static int parse_rule(struct parse *p, yaml_node_t *map, struct config *c, int i
 		if (!strcmp(text(k), "match") && parse_match(p, v, r))
 			return -1;
 	}
-	if (parse_group(p, rule_f, map, r, "", NULL))
+	if (parse_group(p, rule_f, map, r, &r->set, "", NULL, rule_own))
 		return -1;
 	return conflicts(p, map, r);
 }
@@ -780,15 +973,80 @@ static int parse_rules(struct parse *p, yaml_node_t *seq, struct config *c)
 static int parse_defaults(struct parse *p, yaml_node_t *map, struct config *c)
 {
 	snprintf(p->where, sizeof(p->where), "defaults");
-	p->rule = false;
 	if (map->type == YAML_MAPPING_NODE)
 		c->defaults.line = map->start_mark.line + 1;
-	if (parse_group(p, rule_f, map, &c->defaults, "", NULL))
+	if (parse_group(p, rule_f, map, &c->defaults, &c->defaults.set, "", NULL, NULL))
 		return -1;
 	return conflicts(p, map, &c->defaults);
 }
 
-/* parse_top - the document: a map with defaults: and rules: */
+/* parse_node - one entry of can.nodes, starting from can.defaults */
+static int parse_node(struct parse *p, yaml_node_t *map, struct can_config *cc, int idx)
+{
+	struct can_node *n = &cc->nodes[idx];
+	yaml_node_t *name;
+	__u32 set = 0;
+	int i;
+
+	if (want(p, map, YAML_MAPPING_NODE, "a can node"))
+		return -1;
+	memset(n, 0, sizeof(*n));
+	n->dir = CAN_DIR_ANY;
+	n->th = cc->defaults;
+	n->line = map->start_mark.line + 1;
+	name = find_key(p, map, "name");
+	if (!name)
+		return fail(p, map, "can node %d has no name", idx + 1);
+	if (copy_str(p, name, "node name", n->name, CONFIG_NAME_LEN))
+		return -1;
+	snprintf(p->where, sizeof(p->where), "can node '%s'", n->name);
+	for (i = 0; i < idx; i++)
+		if (!strcmp(cc->nodes[i].name, n->name))
+			return fail(p, name, "duplicate node name '%s' (first at line %d)",
+				    n->name, cc->nodes[i].line);
+	if (parse_group(p, node_f, map, n, &set, "", NULL, node_own))
+		return -1;
+	if (!(set & NF_ID))
+		return fail(p, map, "can node '%s' has no id", n->name);
+	return 0;
+}
+
+/* parse_nodes - the list under can.nodes */
+static int parse_nodes(struct parse *p, yaml_node_t *seq, struct can_config *cc)
+{
+	int n, i;
+
+	if (want(p, seq, YAML_SEQUENCE_NODE, "can.nodes"))
+		return -1;
+	if (seq->type != YAML_SEQUENCE_NODE)
+		return 0;
+	n = seq->data.sequence.items.top - seq->data.sequence.items.start;
+	if (!n)
+		return 0;
+	cc->nodes = calloc(n, sizeof(*cc->nodes));
+	if (!cc->nodes)
+		return fail(p, seq, "out of memory");
+	for (i = 0; i < n; i++) {
+		cc->nnodes = i + 1;
+		if (parse_node(p, node(p, seq->data.sequence.items.start[i]), cc, i))
+			return -1;
+	}
+	return 0;
+}
+
+/* parse_can - the can: map; nodes start from can.defaults, so they come last */
+static int parse_can(struct parse *p, yaml_node_t *map, struct config *c)
+{
+	yaml_node_t *nodes;
+
+	p->where[0] = '\0';
+	if (parse_group(p, can_f, map, &c->can, NULL, "can", NULL, can_own))
+		return -1;
+	nodes = map->type == YAML_MAPPING_NODE ? find_key(p, map, "nodes") : NULL;
+	return nodes ? parse_nodes(p, nodes, &c->can) : 0;
+}
+
+/* parse_top - the document: a map with defaults:, rules: and can: */
 static int parse_top(struct parse *p, yaml_node_t *top, struct config *c)
 {
 	yaml_node_t *k, *v, *rules = NULL;
@@ -803,11 +1061,16 @@ static int parse_top(struct parse *p, yaml_node_t *top, struct config *c)
 			return -1;
 		if (!strcmp(text(k), "rules"))
 			rules = v;
-		else if (strcmp(text(k), "defaults"))
-			return fail(p, k, "unknown key '%s' at top level (want defaults "
-				    "or rules)", text(k));
-		else if (parse_defaults(p, v, c))
-			return -1;
+		else if (!strcmp(text(k), "defaults")) {
+			if (parse_defaults(p, v, c))
+				return -1;
+		} else if (!strcmp(text(k), "can")) {
+			if (parse_can(p, v, c))
+				return -1;
+		} else {
+			return fail(p, k, "unknown key '%s' at top level (want defaults, "
+				    "rules or can)", text(k));
+		}
 	}
 	/* rules copy the defaults, so they come after them whatever the order */
 	return rules ? parse_rules(p, rules, c) : 0;
@@ -946,6 +1209,15 @@ void config_defaults(struct config *c)
 	d->th.unsafe_error[RTSUP_U_MAJFLT] = 1;
 	d->th.overhead_warn_pct = 1;
 	d->th.overhead_error_pct = 5;
+	c->can.busload_warn = 0.7;
+	c->can.busload_error = 0.9;
+	c->can.err_warn = 1;
+	c->can.err_error = 100;
+	c->can.heartbeat_timeout_ns = NS_PER_S;
+	c->can.defaults.warn_periods = 3;
+	c->can.defaults.error_periods = 10;
+	c->can.defaults.learn_s = 2;
+	c->can.defaults.init_timeout_s = 5;
 }
 
 int config_load(const char *path, struct config *c, char *err, size_t errlen)
@@ -990,6 +1262,31 @@ static bool rule_matches(const struct rule *r, const char *process, const char *
 	if (r->match_cgroup[0] && (!cgroup || !cgroup_below(cgroup, r->match_cgroup)))
 		return false;
 	return true;
+}
+
+int config_can_node(const struct config *c, const char *iface, __u32 id, int dir)
+{
+	__u32 eff = id & RTSUP_CAN_EFF_FLAG, key = id & RTSUP_CAN_EFF_MASK;
+	int i;
+
+	/* an error frame is a report of the controller, not an identifier */
+	if (id & RTSUP_CAN_ERR_FLAG)
+		return -1;
+	for (i = 0; i < c->can.nnodes; i++) {
+		const struct can_node *n = &c->can.nodes[i];
+
+		if (n->iface[0] && (!iface || strcmp(n->iface, iface)))
+			continue;
+		/* a 29-bit node never names an 11-bit identifier, nor the reverse */
+		if ((n->id_lo & RTSUP_CAN_EFF_FLAG) != eff)
+			continue;
+		if (key < (n->id_lo & RTSUP_CAN_EFF_MASK) || key > (n->id_hi & RTSUP_CAN_EFF_MASK))
+			continue;
+		if (n->dir != CAN_DIR_ANY && n->dir != dir)
+			continue;
+		return i;
+	}
+	return -1;
 }
 
 int config_match(const struct config *c, const char *process, const char *thread,
@@ -1087,13 +1384,44 @@ static void fmt_syslist(char *buf, size_t len, const char (*names)[SYSNAME_LEN],
 		snprintf(buf + o, len - o, "]");
 }
 
+/* fmt_str - a double-quoted YAML string */
+static void fmt_str(char *buf, size_t len, const char *s)
+{
+	size_t o = snprintf(buf, len, "\"");
+
+	for (; *s && o < len; s++) {
+		if (*s == '"' || *s == '\\')
+			o += snprintf(buf + o, len - o, "\\%c", *s);
+		else if ((unsigned char)*s < 0x20)
+			o += snprintf(buf + o, len - o, "\\x%02x", (unsigned char)*s);
+		else
+			o += snprintf(buf + o, len - o, "%c", *s);
+	}
+	if (o < len)
+		snprintf(buf + o, len - o, "\"");
+}
+
+/* fmt_canid - 0x181, 0x180-0x1FF; 29-bit ids with 8 digits, as candump does */
+static void fmt_canid(char *buf, size_t len, __u32 lo, __u32 hi)
+{
+	bool eff = lo & RTSUP_CAN_EFF_FLAG;
+	int w = eff ? 8 : 3;
+
+	lo &= RTSUP_CAN_EFF_MASK;
+	hi &= RTSUP_CAN_EFF_MASK;
+	if (lo == hi)
+		snprintf(buf, len, "0x%0*X", w, lo);
+	else
+		snprintf(buf, len, "0x%0*X-0x%0*X", w, lo, w, hi);
+}
+
 static void fmt_group(char *buf, size_t len, const struct field *fields,
-		      const struct rule *r);
+		      const void *obj);
 
 /* fmt_value - one field's value as YAML text */
-static void fmt_value(char *buf, size_t len, const struct field *f, const struct rule *r)
+static void fmt_value(char *buf, size_t len, const struct field *f, const void *obj)
 {
-	const void *src = (const char *)r + f->off;
+	const void *src = (const char *)obj + f->off;
 	int i;
 
 	switch (f->type) {
@@ -1134,10 +1462,27 @@ static void fmt_value(char *buf, size_t len, const struct field *f, const struct
 			snprintf(buf, len, "%d", i);
 		break;
 	case F_SYSLIST:
-		fmt_syslist(buf, len, src, *(const int *)((const char *)r + f->off2));
+		fmt_syslist(buf, len, src, *(const int *)((const char *)obj + f->off2));
 		break;
 	case F_GROUP:
-		fmt_group(buf, len, f->sub, r);
+		fmt_group(buf, len, f->sub, src);
+		break;
+	case F_IFACE:
+		if (!*(const char *)src) {
+			snprintf(buf, len, "any");
+			break;
+		}
+		/* fall through */
+	case F_STR:
+		fmt_str(buf, len, src);
+		break;
+	case F_CANID:
+		fmt_canid(buf, len, *(const __u32 *)src,
+			  *(const __u32 *)((const char *)obj + f->off2));
+		break;
+	case F_CANDIR:
+		i = *(const int *)src;
+		snprintf(buf, len, "%s", i == RTSUP_CAN_RX ? "rx" : i == RTSUP_CAN_TX ? "tx" : "any");
 		break;
 	default:
 		buf[0] = '\0';
@@ -1146,14 +1491,14 @@ static void fmt_value(char *buf, size_t len, const struct field *f, const struct
 
 /* fmt_group - a nested group as a flow map {k: v, ...} */
 static void fmt_group(char *buf, size_t len, const struct field *fields,
-		      const struct rule *r)
+		      const void *obj)
 {
 	char val[256];
 	size_t o;
 
 	o = snprintf(buf, len, "{");
 	for (; fields->key && o < len; fields++) {
-		fmt_value(val, sizeof(val), fields, r);
+		fmt_value(val, sizeof(val), fields, obj);
 		o += snprintf(buf + o, len - o, "%s%s: %s", o > 1 ? ", " : "", fields->key,
 			      val);
 	}
@@ -1164,16 +1509,10 @@ static void fmt_group(char *buf, size_t len, const struct field *fields,
 /* print_str - a double-quoted YAML string */
 static void print_str(FILE *out, const char *s)
 {
-	fputc('"', out);
-	for (; *s; s++) {
-		if (*s == '"' || *s == '\\')
-			fprintf(out, "\\%c", *s);
-		else if ((unsigned char)*s < 0x20)
-			fprintf(out, "\\x%02x", (unsigned char)*s);
-		else
-			fputc(*s, out);
-	}
-	fputc('"', out);
+	char buf[4 * CONFIG_PATH_LEN + 3];
+
+	fmt_str(buf, sizeof(buf), s);
+	fputs(buf, out);
 }
 
 /*
@@ -1191,7 +1530,7 @@ static void print_rule(FILE *out, const struct rule *r, const char *ind,
 		if (f->type == F_GROUP) {
 			fprintf(out, "%s%s:\n", ind, f->key);
 			for (t = f->sub; t->key; t++) {
-				fmt_value(val, sizeof(val), t, r);
+				fmt_value(val, sizeof(val), t, (const char *)r + f->off);
 				fprintf(out, "%s  %s: %s\n", ind, t->key, val);
 			}
 			continue;
@@ -1220,6 +1559,73 @@ static void print_match(FILE *out, const struct rule *r)
 	fprintf(out, n ? "}\n" : "    # match: {}  (every thread)\n");
 }
 
+/*
+ * print_fields - the keys of a table at an indent: groups of plain keys
+ * as flow maps, a group holding groups (can.defaults) as a block
+ */
+static void print_fields(FILE *out, const struct field *fields, const void *obj,
+			 const char *ind)
+{
+	const struct field *f, *t;
+	char val[512], deeper[32];
+
+	for (f = fields; f->key; f++) {
+		for (t = f->type == F_GROUP ? f->sub : NULL; t && t->key; t++)
+			if (t->type == F_GROUP)
+				break;
+		if (t && t->key) {
+			fprintf(out, "%s%s:\n", ind, f->key);
+			snprintf(deeper, sizeof(deeper), "%s  ", ind);
+			print_fields(out, f->sub, (const char *)obj + f->off, deeper);
+			continue;
+		}
+		fmt_value(val, sizeof(val), f, obj);
+		fprintf(out, "%s%s: %s\n", ind, f->key, val);
+	}
+}
+
+/*
+ * print_node - one entry of can.nodes. Its thresholds are printed in full,
+ * like a rule's: struct can_node keeps the merged values, not which keys
+ * the file gave. A period or group it has not are shown as comments.
+ */
+static void print_node(FILE *out, const struct can_node *n)
+{
+	const char *ind = "      ";
+	const struct field *f;
+	char val[512];
+
+	fprintf(out, "    - name: ");
+	print_str(out, n->name);
+	fputc('\n', out);
+	for (f = node_f; f->key; f++) {
+		if (f->off == N(period_ns) && !n->period_ns) {
+			fprintf(out, "%s# period: 0  (learned)\n", ind);
+		} else if (f->off == N(group) && !n->group[0]) {
+			fprintf(out, "%s# group: \"\"  (none)\n", ind);
+		} else {
+			fmt_value(val, sizeof(val), f, n);
+			fprintf(out, "%s%s: %s\n", ind, f->key, val);
+		}
+	}
+}
+
+/* print_can - the can: section */
+static void print_can(FILE *out, const struct can_config *cc)
+{
+	int i;
+
+	fprintf(out, "can:\n");
+	print_fields(out, can_f, cc, "  ");
+	if (!cc->nnodes) {
+		fprintf(out, "  nodes: []\n");
+		return;
+	}
+	fprintf(out, "  nodes:\n");
+	for (i = 0; i < cc->nnodes; i++)
+		print_node(out, &cc->nodes[i]);
+}
+
 void config_print(const struct config *c, FILE *out)
 {
 	int i;
@@ -1230,16 +1636,17 @@ void config_print(const struct config *c, FILE *out)
 	print_rule(out, &c->defaults, "  ", "built in");
 	if (!c->nrules) {
 		fprintf(out, "rules: []\n");
-		return;
+	} else {
+		fprintf(out, "rules:\n");
+		for (i = 0; i < c->nrules; i++) {
+			fprintf(out, "  - name: ");
+			print_str(out, c->rules[i].name);
+			fputc('\n', out);
+			print_match(out, &c->rules[i]);
+			print_rule(out, &c->rules[i], "    ", "from defaults");
+		}
 	}
-	fprintf(out, "rules:\n");
-	for (i = 0; i < c->nrules; i++) {
-		fprintf(out, "  - name: ");
-		print_str(out, c->rules[i].name);
-		fputc('\n', out);
-		print_match(out, &c->rules[i]);
-		print_rule(out, &c->rules[i], "    ", "from defaults");
-	}
+	print_can(out, &c->can);
 }
 
 void config_free(struct config *c)
@@ -1247,4 +1654,7 @@ void config_free(struct config *c)
 	free(c->rules);
 	c->rules = NULL;
 	c->nrules = 0;
+	free(c->can.nodes);
+	c->can.nodes = NULL;
+	c->can.nnodes = 0;
 }

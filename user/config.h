@@ -76,11 +76,50 @@ struct rule {
 	int line;				/* where the rule starts in the file */
 };
 
+/* Thresholds of one CAN node (or of an identifier no node names). */
+struct can_thresholds {
+	double warn_periods;		/* not responding: no frame for k periods -> WARN */
+	double error_periods;		/* ... -> ERROR */
+	__u64 jitter_warn_ns;		/* largest |gap - period| in the window */
+	__u64 jitter_error_ns;
+	double learn_s;			/* no period given: learn it over the first N s */
+	double init_timeout_s;		/* a named node never seen within N s -> WARN */
+};
+
+#define CAN_DIR_ANY	-1
+
+/* A named node: an identifier (range) on an interface, in a direction. */
+struct can_node {
+	char name[CONFIG_NAME_LEN];
+	char iface[16];			/* "" = any interface */
+	__u32 id_lo;			/* inclusive range; RTSUP_CAN_EFF_FLAG set for 29-bit ids */
+	__u32 id_hi;
+	int dir;			/* CAN_DIR_ANY, RTSUP_CAN_RX or RTSUP_CAN_TX */
+	__u64 period_ns;		/* expected period, 0 = learn it */
+	char group[CONFIG_NAME_LEN];	/* "" = none; groups aggregate nodes */
+	struct can_thresholds th;	/* merged over can.defaults at load */
+	int line;
+};
+
+struct can_config {
+	bool canopen;			/* CANopen profile: heartbeat, EMCY, SDO */
+	__u64 bitrate;			/* when the interface does not tell (vcan), 0 = unknown */
+	double busload_warn;		/* ratio of the bitrate, 0 = off */
+	double busload_error;
+	__u64 err_warn;			/* error frames in the window >= this -> WARN, 0 = off */
+	__u64 err_error;
+	__u64 heartbeat_timeout_ns;	/* CANopen: no heartbeat for this long -> ERROR */
+	struct can_thresholds defaults;	/* for every identifier, and the base of each node */
+	struct can_node *nodes;
+	int nnodes;
+};
+
 struct config {
 	char path[CONFIG_PATH_LEN];	/* "" when built in */
 	struct rule defaults;
 	struct rule *rules;
 	int nrules;
+	struct can_config can;
 };
 
 /* config_defaults - the built-in configuration (no file) */
@@ -96,6 +135,11 @@ int config_load(const char *path, struct config *c, char *err, size_t errlen);
  */
 int config_match(const struct config *c, const char *process, const char *thread,
 		 const char *cgroup, struct rule *effective);
+/*
+ * config_can_node - the first node naming (interface, identifier, direction),
+ * its index or -1; id is the counted identifier (EFF flag for 29-bit ids)
+ */
+int config_can_node(const struct config *c, const char *iface, __u32 id, int dir);
 /* config_print - the effective configuration, in the file's YAML form */
 void config_print(const struct config *c, FILE *out);
 void config_free(struct config *c);

@@ -60,16 +60,17 @@ static bool probe_tp_btf(void)
 	return ok;
 }
 
-/* select_programs - keep exactly one of the two program sets */
-static void select_programs(struct rtsup_bpf *s, bool btf)
+/* select_programs - keep one of the two program sets; CAN only with --can */
+static void select_programs(struct rtsup_bpf *s, bool btf, bool can)
 {
 	struct bpf_program *p;
 
 	bpf_object__for_each_program(p, s->obj) {
 		const char *sec = bpf_program__section_name(p);
 		bool is_btf = !strncmp(sec, "tp_btf/", 7);
+		bool is_can = !strncmp(bpf_program__name(p), "can_", 4);
 
-		bpf_program__set_autoload(p, is_btf == btf);
+		bpf_program__set_autoload(p, is_btf == btf && (can || !is_can));
 	}
 }
 
@@ -114,14 +115,19 @@ int loader_start(struct loader *l, const struct options *o)
 		return -1;
 	}
 	l->skel = s;
-	select_programs(s, l->tp_btf);
+	select_programs(s, l->tp_btf, o->can);
 	s->rodata->cfg_ewma_w = o->ewma_w;
 	s->rodata->cfg_period = o->period_ns;
 	s->rodata->cfg_rt = o->targets.rt;
-	s->rodata->cfg_cgroup = o->targets.cgroup != NULL;
+	s->rodata->cfg_cgroup = o->targets.cgroup != NULL || o->unit;
 	s->rodata->cfg_ncomm = o->targets.ncomms;
 	s->rodata->cfg_record = o->record_path || o->perfetto_path;
 	s->rodata->cfg_follow = o->cmd != NULL;
+	s->rodata->cfg_can_nif = o->ncan;
+	for (i = 0; i < o->ncan; i++)
+		((__u32 *)s->rodata->cfg_can_if)[i] = o->can_ifindex[i];
+	s->rodata->cfg_canopen = o->canopen;
+	bpf_map__set_max_entries(s->maps.can_ids, o->can_max_ids);
 	for (i = 0; i < o->targets.ncomms; i++)
 		memcpy((char *)s->rodata->cfg_comms[i], o->targets.comms[i], RTSUP_COMM_LEN);
 	bpf_map__set_max_entries(s->maps.threads, o->max_threads);

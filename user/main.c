@@ -14,12 +14,15 @@
 #include <unistd.h>
 #include <sys/wait.h>
 #include <bpf/libbpf.h>
+#include "cancollect.h"
+#include "canreplay.h"
 #include "collector.h"
 #include "config.h"
 #include "loader.h"
 #include "options.h"
 #include "output.h"
 #include "replay.h"
+#include "robot.h"
 #include "sinks.h"
 #include "supervise.h"
 #include "targets.h"
@@ -143,6 +146,17 @@ static void self_in(struct self_in *in, const struct loader *l, const struct col
 	in->untracked_threads = c->counters[RTSUP_C_MAP_FULL];
 }
 
+/* sample_can - the CAN maps into the CAN model, on the thread model's interval */
+static void sample_can(const struct options *o, struct supervisor *s, const struct loader *l,
+		       const struct collector *c)
+{
+	if (!s->can)
+		return;
+	can_collect(s->can, l->skel, o, &s->cfg);
+	s->can->bank = c->bank;
+	s->can->full = c->counters[RTSUP_C_CAN_FULL];
+}
+
 /* do_reload - SIGHUP: a good file replaces the rules, a bad one is refused */
 static void do_reload(const struct options *o, struct supervisor *s)
 {
@@ -166,7 +180,9 @@ static int run_live(struct options *o, struct supervisor *s)
 	struct loader l;
 	struct collector c;
 	struct sinks sk;
+	struct robot rb;
 	struct self_in self;
+	struct can_model cm;
 	__u64 start, next, last, now, end = 0, last_drops = 0;
 	long long last_rt = -1;
 	pid_t child = -1;
@@ -174,8 +190,9 @@ static int run_live(struct options *o, struct supervisor *s)
 	enum level worst = LEVEL_OK;
 	bool child_done = false;
 
-	if (check_targets(o))
+	if (robot_prepare(&rb, o, s) || check_targets(o) || (o->can && can_resolve(o)))
 		return 1;
+	o->canopen = s->cfg.can.canopen;
 	if (o->cmd) {
 		child = spawn_cmd(o->cmd, &go_fd);
 		if (child < 0) {
@@ -192,6 +209,11 @@ static int run_live(struct options *o, struct supervisor *s)
 		goto out;
 	if (sinks_open(&sk, o, s, &c))
 		goto out;
+	if (o->can) {
+		memset(&cm, 0, sizeof(cm));
+		cm.start_ns = mono_now();
+		s->can = &cm;
+	}
 	s->real_off = c.real_off;
 	fprintf(stderr, "rtsup-trace: tracing with %s programs; Ctrl-C ends with a summary\n",
 		l.tp_btf ? "tp_btf" : "raw tracepoint");
@@ -201,18 +223,23 @@ static int run_live(struct options *o, struct supervisor *s)
 		close(go_fd);
 		go_fd = -1;
 	}
+	if (robot_start(&rb, &c, s))
+		goto out;
 	start = last = mono_now();
 	last_rt = loader_run_time(&l);
 	next = start + (__u64)(o->interval * 1e9);
 	if (o->duration)
 		end = start + (__u64)(o->duration * 1e9);
 	while (!exiting && !child_done) {
+		robot_tick(&rb);
 		now = mono_now();
 		if (end && now >= end)
 			break;
 		if (reload) {
 			reload = 0;
+			robot_reload(&rb, false);
 			do_reload(o, s);
+			robot_reload(&rb, true);
 		}
 		if (child > 0 && waitpid(child, &status, WNOHANG) == child)
 			child_done = true;
@@ -226,11 +253,16 @@ static int run_live(struct options *o, struct supervisor *s)
 		}
 		collector_sample(&c);
 		s->real_off = c.real_off;
+		sample_can(o, s, &l, &c);
 		self_in(&self, &l, &c, s, &last_rt, &last_drops, (now - last) / 1e9);
 		supervise_interval(s, &c.model, c.bank, &self, now);
+		supervise_can(s, now, (now - last) / 1e9);
 		output_interval(&c, s, (now - start) / 1e9, (now - last) / 1e9);
+		if (s->can)
+			can_model_next(s->can);
 		if (sinks_interval(&sk, &c, &self, now))
 			goto out;
+		robot_interval(&rb, &c, s, now);
 		collector_apply_rules(&c, s);
 		collector_clear_events(&c);
 		collector_reap(&c);
@@ -239,6 +271,7 @@ static int run_live(struct options *o, struct supervisor *s)
 		if (next <= now)
 			next = now + (__u64)(o->interval * 1e9);
 	}
+	robot_stop(&rb);
 	/* the last partial interval still counts in the summary */
 	if (child > 0 && !child_done) {
 		kill(child, exiting ? exiting : SIGTERM);
@@ -247,8 +280,10 @@ static int run_live(struct options *o, struct supervisor *s)
 	}
 	now = mono_now();
 	collector_sample(&c);
+	sample_can(o, s, &l, &c);
 	self_in(&self, &l, &c, s, &last_rt, &last_drops, (now - last) / 1e9);
 	supervise_interval(s, &c.model, c.bank, &self, now);
+	supervise_can(s, now, (now - last) / 1e9);
 	/* the last, partial interval: the intervals add up to the summary */
 	output_interval(&c, s, (now - start) / 1e9, (now - last) / 1e9);
 	output_summary(&c, s, (now - start) / 1e9);
@@ -257,6 +292,11 @@ static int run_live(struct options *o, struct supervisor *s)
 	err = 0;
 	worst = supervise_worst(s, &c.model);
 out:
+	robot_stop(&rb);
+	if (s->can) {
+		can_model_free(s->can);
+		s->can = NULL;
+	}
 	collector_free(&c);
 	loader_stop(&l);
 out_child:
@@ -309,6 +349,8 @@ int main(int argc, char **argv)
 	sigaction(SIGHUP, &sa, NULL);
 	if (o.replay_path)
 		ret = replay_run(&o, &s);
+	else if (o.can_replay_path)
+		ret = can_replay_run(&o, &s);
 	else
 		ret = run_live(&o, &s);
 	supervise_free(&s);

@@ -180,6 +180,50 @@ void model_remove(struct model *m, __u32 tid)
 	m->n--;
 }
 
+static int cmp_u64(const void *a, const void *b)
+{
+	__u64 x = *(const __u64 *)a, y = *(const __u64 *)b;
+
+	return x < y ? -1 : x > y;
+}
+
+void model_prune_dead(struct model *m, int keep)
+{
+	__u64 *seq, cut;
+	int i, j, dead = 0;
+
+	for (i = 0; i < m->n; i++) {
+		struct thread_model *tm = &m->t[i];
+
+		if (!tm->reported_exit)
+			continue;
+		if (!tm->dead_seq)
+			tm->dead_seq = ++m->dead_seq;
+		dead++;
+	}
+	if (dead <= keep)
+		return;
+	seq = malloc(dead * sizeof(*seq));
+	if (!seq)
+		return;
+	for (i = 0, j = 0; i < m->n; i++)
+		if (m->t[i].reported_exit)
+			seq[j++] = m->t[i].dead_seq;
+	qsort(seq, dead, sizeof(*seq), cmp_u64);
+	cut = seq[dead - keep - 1];	/* the newest of the ones to drop */
+	free(seq);
+	for (i = 0, j = 0; i < m->n; i++) {
+		if (m->t[i].reported_exit && m->t[i].dead_seq <= cut) {
+			m->forgotten++;
+			continue;
+		}
+		if (i != j)
+			m->t[j] = m->t[i];
+		j++;
+	}
+	m->n = j;
+}
+
 void model_sys_set(struct thread_model *tm, int nr, __u64 total)
 {
 	int i;

@@ -75,13 +75,19 @@ struct thread_model {
 	bool was_rt;			/* it ran with an RT policy at some point */
 	struct status st;		/* verdict of the last interval */
 	enum level worst;		/* worst level ever reached */
+	__u64 dead_seq;			/* order of death, set by model_prune_dead */
 };
 
 struct model {
 	struct thread_model *t;
 	int n;
 	int cap;
+	__u64 dead_seq;			/* last order of death handed out */
+	__u64 forgotten;		/* exited threads dropped by model_prune_dead */
 };
+
+/* Exited threads kept for the summary; older ones are forgotten (weeks of churn). */
+#define MODEL_KEEP_DEAD 1024
 
 /* hist_percentile - q-quantile (0 < q <= 1) of cur - prev (prev may be NULL) */
 __u64 hist_percentile(const __u32 *cur, const __u32 *prev, double q, __u64 min,
@@ -106,6 +112,12 @@ void span_window(const struct rtsup_thread *cur, const struct rtsup_thread *prev
 struct thread_model *model_get(struct model *m, __u32 tid, bool create);
 /* model_remove - forget a thread */
 void model_remove(struct model *m, __u32 tid);
+/*
+ * model_prune_dead - keep at most 'keep' threads that exited and were
+ * reported (reported_exit), the most recent ones; count the others in
+ * m->forgotten. Memory stays bounded however many threads come and go.
+ */
+void model_prune_dead(struct model *m, int keep);
 /* model_sys_add - set the lifetime count of one unsafe syscall */
 void model_sys_set(struct thread_model *tm, int nr, __u64 total);
 void model_free(struct model *m);

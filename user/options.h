@@ -33,6 +33,17 @@ struct options {
 	bool no_overhead;	/* --no-overhead: keep BPF statistics off */
 	char **cmd;		/* -- CMD ARGS: run and supervise it */
 	const char *replay_path;	/* rtsup-trace replay FILE */
+	const char *prom_textfile;	/* --prom-textfile: node_exporter textfile */
+	const char *listen;	/* --listen ADDR:PORT: HTTP /metrics */
+	const char *unit;	/* --unit NAME: a systemd unit's cgroup */
+	const char *can_replay_path;	/* rtsup-trace can-replay FILE */
+	bool can;		/* --can: supervise CAN interfaces */
+	int ncan;		/* --can IFACE given: how many; 0 = every CAN interface */
+	const char *can_ifs[8];
+	__u32 can_ifindex[8];
+	__u64 can_bitrate;	/* --bitrate: overrides what the interface says */
+	__u32 can_max_ids;	/* --can-max-ids: capacity of the identifier map */
+	bool canopen;		/* from the configuration: CANopen matching in the kernel */
 };
 
 /* options_parse - parse argv; prints a one-line error and returns -1 on error */

@@ -7,6 +7,7 @@
 #include <jansson.h>
 #include "output.h"
 #include "syscalls.h"
+#include "output_can.h"
 
 #define MAX_EVENT_LINES 10
 
@@ -214,6 +215,8 @@ static void json_interval(const struct collector *c, const struct supervisor *sv
 	for (i = 0; i < c->nevents; i++)
 		json_array_append_new(ev, json_event(c, &c->events[i]));
 	json_object_set_new(o, "threads", th);
+	if (sv->can)
+		json_object_set_new(o, "can", can_json(sv->can, &sv->cfg, sv->now, interval, false));
 	json_object_set_new(o, "events", ev);
 	json_object_set_new(o, "events_not_shown", json_integer(c->events_over));
 	json_print(o);
@@ -231,6 +234,8 @@ static void json_summary(const struct collector *c, const struct supervisor *sv,
 	for (i = 0; i < c->model.n; i++)
 		json_array_append_new(th, json_thread(c, sv, &c->model.t[i], false));
 	json_object_set_new(o, "threads", th);
+	if (sv->can)
+		json_object_set_new(o, "can", can_json(sv->can, &sv->cfg, sv->now, 0, true));
 	for (i = 0; i < sv->nv; i++) {
 		fmt_time(c, sv->v[i].mono_ns, when, sizeof(when));
 		json_array_append_new(vs, json_pack("{s:s,s:s,s:s,s:s}", "time", when,
@@ -375,6 +380,8 @@ static void table_interval(const struct collector *c, const struct supervisor *s
 		table_row(tm, &s, tm->st.level, color);
 	}
 	table_messages(c, sv);
+	if (sv->can)
+		can_table(sv->can, &sv->cfg, sv->now, interval, false);
 	for (i = 0; i < c->nevents && shown < MAX_EVENT_LINES; i++) {
 		/* new-thread notices are noise in a live table */
 		if (c->events[i].type == RTSUP_EV_NEW)
@@ -426,6 +433,8 @@ static void table_summary(const struct collector *c, const struct supervisor *sv
 			       (unsigned long long)tm->sys[j].total);
 		printf("\n");
 	}
+	if (sv->can)
+		can_table(sv->can, &sv->cfg, sv->now, elapsed, true);
 	/* every violation, with when and what */
 	printf("verdict: %s", level_name(supervise_worst(sv, &c->model)));
 	printf(" (%d violations%s)\n", sv->nv + (int)sv->v_dropped,

@@ -200,10 +200,30 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 	judge(s, "rtsup-trace", &old, &s->self, &s->self_worst, now);
 }
 
+/* can_judge - the CAN model's verdicts through the same log and violations */
+static void can_judge(void *ctx, const char *comp, const struct status *old,
+		      const struct status *st, enum level *worst)
+{
+	struct supervisor *s = ctx;
+
+	judge(s, comp, old, st, worst, s->now);
+}
+
+void supervise_can(struct supervisor *s, __u64 now, double interval_s)
+{
+	if (!s->can)
+		return;
+	s->now = now;
+	can_model_judge(s->can, &s->cfg, now, interval_s, can_judge, s);
+}
+
 enum level supervise_worst(const struct supervisor *s, const struct model *m)
 {
 	enum level w = s->self_worst;
 	int i;
+
+	if (s->can && can_worst(s->can) > w)
+		w = can_worst(s->can);
 
 	for (i = 0; i < m->n; i++)
 		if (m->t[i].worst > w)

@@ -8,6 +8,7 @@
 #define RTSUP_SUPERVISE_H
 
 #include <stdbool.h>
+#include "canmodel.h"
 #include "checks.h"
 #include "config.h"
 #include "model.h"
@@ -34,6 +35,8 @@ struct supervisor {
 	int nv;
 	__u64 v_dropped;
 	__s64 real_off;			/* CLOCK_REALTIME - CLOCK_MONOTONIC, for messages */
+	struct can_model *can;		/* the CAN buses, NULL without --can */
+	__u64 now;			/* time of the verdicts being made */
 	/* where level changes go; stderr by default, the journal under systemd */
 	void (*log)(const char *component, enum level from, enum level to, const char *line);
 };
@@ -47,6 +50,8 @@ const struct rule *supervise_rule(const struct supervisor *s, const struct threa
 /* supervise_interval - judge every thread and the supervisor at 'now' */
 void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 			const struct self_in *self, __u64 now);
+/* supervise_can - judge the CAN components at 'now', interval_s long */
+void supervise_can(struct supervisor *s, __u64 now, double interval_s);
 /* supervise_worst - the worst level any component reached */
 enum level supervise_worst(const struct supervisor *s, const struct model *m);
 /* component_name - "comm[tid]" */

@@ -12,6 +12,7 @@
 #include <cmocka.h>
 
 #include "config.h"
+#include "can.h"
 
 /* test files, relative to the project root (make unit runs from there) */
 #define DIR	"tests/unit/config/"
@@ -40,9 +41,11 @@ static void expect_bad(const char *path, const char *msg)
 	config_defaults(&c);
 	assert_int_equal(config_load(path, &c, err, sizeof(err)), -1);
 	assert_string_equal(err, msg);
-	/* untouched: still the built-in defaults, no rules */
+	/* untouched: still the built-in defaults, no rules, no nodes */
 	assert_null(c.rules);
 	assert_int_equal(c.nrules, 0);
+	assert_null(c.can.nodes);
+	assert_int_equal(c.can.nnodes, 0);
 	assert_string_equal(c.path, "");
 }
 
@@ -97,6 +100,45 @@ static void rule_equal(const struct rule *a, const struct rule *b)
 	th_equal(&a->th, &b->th);
 }
 
+/* can_th_equal - two CAN threshold sets are the same */
+static void can_th_equal(const struct can_thresholds *a, const struct can_thresholds *b)
+{
+	assert_true(a->warn_periods == b->warn_periods);
+	assert_true(a->error_periods == b->error_periods);
+	assert_int_equal(a->jitter_warn_ns, b->jitter_warn_ns);
+	assert_int_equal(a->jitter_error_ns, b->jitter_error_ns);
+	assert_true(a->learn_s == b->learn_s);
+	assert_true(a->init_timeout_s == b->init_timeout_s);
+}
+
+/* can_equal - two can: sections are the same (node lines aside) */
+static void can_equal(const struct can_config *a, const struct can_config *b)
+{
+	int i;
+
+	assert_int_equal(a->canopen, b->canopen);
+	assert_int_equal(a->bitrate, b->bitrate);
+	assert_true(a->busload_warn == b->busload_warn);
+	assert_true(a->busload_error == b->busload_error);
+	assert_int_equal(a->err_warn, b->err_warn);
+	assert_int_equal(a->err_error, b->err_error);
+	assert_int_equal(a->heartbeat_timeout_ns, b->heartbeat_timeout_ns);
+	can_th_equal(&a->defaults, &b->defaults);
+	assert_int_equal(a->nnodes, b->nnodes);
+	for (i = 0; i < a->nnodes; i++) {
+		const struct can_node *x = &a->nodes[i], *y = &b->nodes[i];
+
+		assert_string_equal(x->name, y->name);
+		assert_string_equal(x->iface, y->iface);
+		assert_int_equal(x->id_lo, y->id_lo);
+		assert_int_equal(x->id_hi, y->id_hi);
+		assert_int_equal(x->dir, y->dir);
+		assert_int_equal(x->period_ns, y->period_ns);
+		assert_string_equal(x->group, y->group);
+		can_th_equal(&x->th, &y->th);
+	}
+}
+
 /* the built-in defaults, as documented */
 static void test_config_defaults(void **state)
 {
@@ -138,6 +180,239 @@ static void test_config_defaults(void **state)
 	assert_true(d->th.overhead_warn_pct == 1);
 	assert_true(d->th.overhead_error_pct == 5);
 	assert_false(d->th.lifetime);
+}
+
+/* the built-in can: section, as documented */
+static void test_config_can_defaults(void **state)
+{
+	struct config c, e;
+	const struct can_config *cc = &c.can;
+
+	config_defaults(&c);
+	assert_false(cc->canopen);
+	assert_int_equal(cc->bitrate, 0);
+	assert_true(cc->busload_warn == 0.7);
+	assert_true(cc->busload_error == 0.9);
+	assert_int_equal(cc->err_warn, 1);
+	assert_int_equal(cc->err_error, 100);
+	assert_int_equal(cc->heartbeat_timeout_ns, 1000000000);
+	assert_true(cc->defaults.warn_periods == 3);
+	assert_true(cc->defaults.error_periods == 10);
+	assert_int_equal(cc->defaults.jitter_warn_ns, 0);
+	assert_int_equal(cc->defaults.jitter_error_ns, 0);
+	assert_true(cc->defaults.learn_s == 2);
+	assert_true(cc->defaults.init_timeout_s == 5);
+	assert_null(cc->nodes);
+	assert_int_equal(cc->nnodes, 0);
+	assert_int_equal(config_can_node(&c, "can0", 0x181, RTSUP_CAN_RX), -1);
+	/* "can:" with nothing under it, or only the other keys: the same */
+	load_ok(DIR "can-empty.yaml", &e);
+	can_equal(&e.can, cc);
+	load_ok(DIR "good-full.yaml", &e);
+	can_equal(&e.can, cc);
+	config_free(&e);
+}
+
+/* every key of can-full.yaml lands in its field */
+static void test_config_can_full(void **state)
+{
+	struct config c;
+	const struct can_config *cc = &c.can;
+	const struct can_node *n;
+
+	load_ok(DIR "can-full.yaml", &c);
+	assert_int_equal(c.defaults.period_ns, 1000000);	/* the rest still works */
+	assert_true(cc->canopen);
+	assert_int_equal(cc->bitrate, 500000);
+	assert_true(cc->busload_warn == 60.0 / 100);
+	assert_true(cc->busload_error == 0.85);
+	assert_int_equal(cc->err_warn, 2);
+	assert_int_equal(cc->err_error, 50);
+	assert_int_equal(cc->heartbeat_timeout_ns, 1500000000);
+	assert_true(cc->defaults.warn_periods == 4);
+	assert_true(cc->defaults.error_periods == 12.5);
+	assert_int_equal(cc->defaults.jitter_warn_ns, 1000000);
+	assert_int_equal(cc->defaults.jitter_error_ns, 3000000);
+	assert_true(cc->defaults.learn_s == 3);
+	assert_true(cc->defaults.init_timeout_s == 10);
+	assert_int_equal(cc->nnodes, 6);
+
+	n = &cc->nodes[0];
+	assert_string_equal(n->name, "shoulder");
+	assert_int_equal(n->line, 16);
+	assert_string_equal(n->iface, "can0");
+	assert_int_equal(n->id_lo, 0x181);
+	assert_int_equal(n->id_hi, 0x181);
+	assert_int_equal(n->dir, RTSUP_CAN_RX);
+	assert_int_equal(n->period_ns, 10000000);
+	assert_string_equal(n->group, "left_arm");
+	assert_true(n->th.warn_periods == 2);
+	assert_true(n->th.error_periods == 5);
+	assert_int_equal(n->th.jitter_warn_ns, 2000000);
+	assert_int_equal(n->th.jitter_error_ns, 5000000);
+	assert_true(n->th.learn_s == 1);
+	assert_true(n->th.init_timeout_s == 2);
+
+	/* a range; TX in any case; the rest from can.defaults */
+	n = &cc->nodes[1];
+	assert_string_equal(n->name, "pdo-range");
+	assert_string_equal(n->iface, "");
+	assert_int_equal(n->id_lo, 0x180);
+	assert_int_equal(n->id_hi, 0x1ff);
+	assert_int_equal(n->dir, RTSUP_CAN_TX);
+	assert_int_equal(n->period_ns, 0);
+	assert_string_equal(n->group, "");
+	can_th_equal(&n->th, &cc->defaults);
+
+	/* above 0x7FF: 29-bit; interface any is "" */
+	n = &cc->nodes[2];
+	assert_string_equal(n->iface, "");
+	assert_int_equal(n->id_lo, 0x18FEF100 | RTSUP_CAN_EFF_FLAG);
+	assert_int_equal(n->id_hi, 0x18FEF100 | RTSUP_CAN_EFF_FLAG);
+	assert_int_equal(n->dir, CAN_DIR_ANY);
+	assert_int_equal(n->period_ns, 100000000);
+	assert_string_equal(n->group, "engine \"1\"");
+
+	/* eight hex digits: 29-bit even when small, as candump writes it */
+	n = &cc->nodes[3];
+	assert_string_equal(n->iface, "vcan10");
+	assert_int_equal(n->id_lo, 0x123 | RTSUP_CAN_EFF_FLAG);
+	assert_int_equal(n->id_hi, 0x123 | RTSUP_CAN_EFF_FLAG);
+
+	/* decimal */
+	n = &cc->nodes[4];
+	assert_int_equal(n->id_lo, 385);
+	assert_int_equal(n->id_hi, 390);
+
+	/* the largest identifier */
+	n = &cc->nodes[5];
+	assert_int_equal(n->id_lo, 0x1FFFFFFF | RTSUP_CAN_EFF_FLAG);
+	config_free(&c);
+	assert_null(c.can.nodes);
+	assert_int_equal(c.can.nnodes, 0);
+}
+
+/* a node giving one key of a group keeps can.defaults' others */
+static void test_config_can_merge(void **state)
+{
+	struct config c;
+	const struct can_node *n;
+
+	load_ok(DIR "can-merge.yaml", &c);
+	assert_int_equal(c.can.nnodes, 3);
+	/* can.defaults over the built-in ones, key by key too */
+	assert_true(c.can.defaults.warn_periods == 5);
+	assert_true(c.can.defaults.error_periods == 10);
+	assert_int_equal(c.can.defaults.jitter_warn_ns, 0);
+	assert_int_equal(c.can.defaults.jitter_error_ns, 4000000);
+
+	/* nodes come before defaults in the file: they still start from them */
+	n = &c.can.nodes[0];
+	assert_string_equal(n->name, "elbow");
+	assert_true(n->th.warn_periods == 5);		/* can.defaults */
+	assert_true(n->th.error_periods == 20);		/* its own */
+	assert_int_equal(n->th.jitter_warn_ns, 1000000);	/* its own */
+	assert_int_equal(n->th.jitter_error_ns, 4000000);	/* can.defaults */
+	assert_true(n->th.learn_s == 2);		/* built in */
+	assert_true(n->th.init_timeout_s == 5);		/* built in */
+
+	n = &c.can.nodes[1];
+	assert_string_equal(n->name, "plain");
+	can_th_equal(&n->th, &c.can.defaults);
+
+	n = &c.can.nodes[2];
+	assert_true(n->th.learn_s == 0.5);
+	assert_true(n->th.init_timeout_s == 0);
+	assert_true(n->th.warn_periods == 5);
+	config_free(&c);
+}
+
+/* config_can_node: interface "" matches any, a name only itself */
+static void test_config_can_node_interface(void **state)
+{
+	struct config c;
+
+	load_ok(DIR "can-match.yaml", &c);
+	assert_int_equal(config_can_node(&c, "can0", 0x181, RTSUP_CAN_RX), 0);
+	/* can0-rx wants can0; range takes any interface, even an unknown one */
+	assert_int_equal(config_can_node(&c, "can1", 0x181, RTSUP_CAN_RX), 2);
+	assert_int_equal(config_can_node(&c, NULL, 0x181, RTSUP_CAN_RX), 2);
+	assert_int_equal(config_can_node(&c, "can00", 0x181, RTSUP_CAN_RX), 2);
+	assert_int_equal(config_can_node(&c, "vcan0", 0x1FFFFFFF | RTSUP_CAN_EFF_FLAG,
+					 RTSUP_CAN_RX), 4);
+	assert_int_equal(config_can_node(&c, "vcan1", 0x1FFFFFFF | RTSUP_CAN_EFF_FLAG,
+					 RTSUP_CAN_RX), -1);
+	config_free(&c);
+}
+
+/* config_can_node: the range's edges are in it, their neighbours not */
+static void test_config_can_node_range(void **state)
+{
+	struct config c;
+	__u32 e = RTSUP_CAN_EFF_FLAG;
+
+	load_ok(DIR "can-match.yaml", &c);
+	assert_int_equal(config_can_node(&c, "can1", 0x180, RTSUP_CAN_RX), 2);
+	assert_int_equal(config_can_node(&c, "can1", 0x1ff, RTSUP_CAN_RX), 2);
+	assert_int_equal(config_can_node(&c, "can1", 0x17f, RTSUP_CAN_RX), -1);
+	assert_int_equal(config_can_node(&c, "can1", 0x200, RTSUP_CAN_RX), -1);
+	assert_int_equal(config_can_node(&c, "vcan0", 0x1FFFFF00 | e, RTSUP_CAN_RX), 4);
+	assert_int_equal(config_can_node(&c, "vcan0", 0x1FFFFEFF | e, RTSUP_CAN_RX), -1);
+	/* an RTR frame of an identifier is that identifier */
+	assert_int_equal(config_can_node(&c, "can0", 0x181 | RTSUP_CAN_RTR_FLAG,
+					 RTSUP_CAN_RX), 0);
+	/* an error frame's class bits are not an identifier */
+	assert_int_equal(config_can_node(&c, "can0", 0x181 | RTSUP_CAN_ERR_FLAG,
+					 RTSUP_CAN_RX), -1);
+	config_free(&c);
+}
+
+/* config_can_node: a node's direction, or any */
+static void test_config_can_node_direction(void **state)
+{
+	struct config c;
+
+	load_ok(DIR "can-match.yaml", &c);
+	assert_int_equal(config_can_node(&c, "can0", 0x181, RTSUP_CAN_RX), 0);
+	assert_int_equal(config_can_node(&c, "can0", 0x181, RTSUP_CAN_TX), 1);
+	assert_int_equal(config_can_node(&c, "can1", 0x181, RTSUP_CAN_TX), 1);
+	/* a direction the caller does not know only matches "any" nodes */
+	assert_int_equal(config_can_node(&c, "can0", 0x181, CAN_DIR_ANY), 2);
+	assert_int_equal(config_can_node(&c, "vcan0", 0x1FFFFFFF | RTSUP_CAN_EFF_FLAG,
+					 RTSUP_CAN_TX), -1);
+	config_free(&c);
+}
+
+/* config_can_node: 11-bit and 29-bit identifiers never name each other */
+static void test_config_can_node_eff(void **state)
+{
+	struct config c;
+	__u32 e = RTSUP_CAN_EFF_FLAG;
+
+	load_ok(DIR "can-match.yaml", &c);
+	assert_int_equal(config_can_node(&c, "can1", 0x1f0, RTSUP_CAN_RX), 2);
+	assert_int_equal(config_can_node(&c, "can1", 0x1f0 | e, RTSUP_CAN_RX), 3);
+	assert_int_equal(config_can_node(&c, "can0", 0x181 | e, RTSUP_CAN_RX), 3);
+	assert_int_equal(config_can_node(&c, "can0", 0x180 | e, RTSUP_CAN_TX), 3);
+	assert_int_equal(config_can_node(&c, "can0", 0x1ff | e, RTSUP_CAN_TX), 3);
+	assert_int_equal(config_can_node(&c, "can0", 0x200 | e, RTSUP_CAN_TX), -1);
+	assert_int_equal(config_can_node(&c, "can0", 0x17f | e, RTSUP_CAN_TX), -1);
+	/* an 11-bit id above 0x1ff: neither range, nor the 29-bit high one */
+	assert_int_equal(config_can_node(&c, "vcan0", 0x7ff, RTSUP_CAN_RX), -1);
+	config_free(&c);
+}
+
+/* config_can_node: the first node that fits wins, in file order */
+static void test_config_can_node_first_wins(void **state)
+{
+	struct config c;
+
+	load_ok(DIR "can-match.yaml", &c);
+	/* can0-rx, any-tx and range all name 0x181 */
+	assert_int_equal(config_can_node(&c, "can0", 0x181, RTSUP_CAN_RX), 0);
+	assert_int_equal(config_can_node(&c, "can0", 0x181, RTSUP_CAN_TX), 1);
+	assert_int_equal(config_can_node(&c, "can0", 0x182, RTSUP_CAN_TX), 2);
+	config_free(&c);
 }
 
 /* every key of good-full.yaml lands in its field */
@@ -415,6 +690,7 @@ static void round_trip(const char *path)
 	for (i = 0; i < a.nrules; i++) {
 		rule_equal(&a.rules[i], &b.rules[i]);
 	}
+	can_equal(&a.can, &b.can);
 	/* and printing again gives the same text */
 	print_file(&b, p2, sizeof(p2));
 	snprintf(first, sizeof(first), "%s", slurp(p1));
@@ -431,6 +707,10 @@ static void test_config_round_trip(void **state)
 	round_trip(DIR "good-nested.yaml");
 	round_trip(DIR "good-match.yaml");
 	round_trip(DIR "good-empty.yaml");
+	round_trip(DIR "can-full.yaml");
+	round_trip(DIR "can-merge.yaml");
+	round_trip(DIR "can-match.yaml");
+	round_trip(DIR "can-empty.yaml");
 	round_trip("examples/rtsup-1khz.yaml");
 }
 
@@ -450,10 +730,16 @@ static void test_config_round_trip_odd_numbers(void **state)
 	a.defaults.period_ns = 1234567;
 	a.defaults.th.jitter_warn_ns = 3600ULL * 1000000000;
 	a.defaults.set = RF_EWMA | RF_PERIOD;
+	a.can.busload_warn = 1.0 / 3;
+	a.can.busload_error = 0.1 + 0.2;
+	a.can.defaults.error_periods = 2.0 / 3;
+	a.can.defaults.learn_s = 0.123456789;
+	a.can.heartbeat_timeout_ns = 1234567891;
 	print_file(&a, p, sizeof(p));
 	load_ok(p, &b);
 	unlink(p);
 	rule_equal(&a.defaults, &b.defaults);
+	can_equal(&a.can, &b.can);
 	config_free(&b);
 }
 
@@ -491,6 +777,24 @@ static void test_config_example(void **state)
 	assert_int_equal(config_match(&c, "ros2_control_node", "rt_loop", "/user.slice",
 				      &eff), 2);
 	assert_int_equal(config_match(&c, "bash", "bash", NULL, &eff), -1);
+	/* its can: section */
+	assert_true(c.can.canopen);
+	assert_int_equal(c.can.bitrate, 1000000);
+	assert_int_equal(c.can.heartbeat_timeout_ns, 300000000);
+	assert_int_equal(c.can.nnodes, 5);
+	assert_int_equal(config_can_node(&c, "can0", 0x080, RTSUP_CAN_TX), 0);
+	assert_int_equal(config_can_node(&c, "can0", 0x181, RTSUP_CAN_RX), 1);
+	assert_int_equal(config_can_node(&c, "can0", 0x182, RTSUP_CAN_RX), 2);
+	assert_int_equal(config_can_node(&c, "can0", 0x202, RTSUP_CAN_TX), 3);
+	assert_int_equal(config_can_node(&c, "can1", 0x18FEF100 | RTSUP_CAN_EFF_FLAG,
+					 RTSUP_CAN_RX), 4);
+	/* a drive's heartbeat is no node: can.defaults judge it */
+	assert_int_equal(config_can_node(&c, "can0", 0x701, RTSUP_CAN_RX), -1);
+	assert_int_equal(c.can.nodes[1].period_ns, 1000000);
+	assert_int_equal(c.can.nodes[1].th.jitter_error_ns, 500000);
+	assert_true(c.can.nodes[4].th.warn_periods == 5);
+	assert_true(c.can.nodes[4].th.init_timeout_s == 10);
+	assert_true(c.can.nodes[3].th.init_timeout_s == 5);
 	config_free(&c);
 }
 
@@ -509,6 +813,32 @@ static void test_config_bad_keeps_old(void **state)
 	assert_string_equal(c.path, DIR "good-full.yaml");
 	assert_int_equal(c.defaults.period_ns, 2000000);
 	assert_string_equal(c.rules[0].name, "controller");
+	config_free(&c);
+}
+
+/* a bad can: section after a good one: the nodes stay too */
+static void test_config_bad_can_keeps_old(void **state)
+{
+	static const char *const bad[] = {
+		DIR "bad-can-dup-name.yaml",	/* nodes allocated, then an error */
+		DIR "bad-can-busload.yaml",
+		DIR "bad-can-no-id.yaml",
+	};
+	struct can_node *nodes;
+	struct config c;
+	char err[256];
+	size_t i;
+
+	load_ok(DIR "can-full.yaml", &c);
+	nodes = c.can.nodes;
+	for (i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
+		assert_int_equal(config_load(bad[i], &c, err, sizeof(err)), -1);
+		assert_ptr_equal(c.can.nodes, nodes);
+		assert_int_equal(c.can.nnodes, 6);
+		assert_true(c.can.busload_warn == 0.6);
+		assert_string_equal(c.can.nodes[0].name, "shoulder");
+		assert_string_equal(c.path, DIR "can-full.yaml");
+	}
 	config_free(&c);
 }
 
@@ -532,7 +862,7 @@ BAD(utf8, "bad-utf8.yaml", "2:13: invalid leading UTF-8 octet")
 BAD(two_docs, "bad-two-docs.yaml", "2:1: more than one YAML document")
 BAD(unknown_key, "bad-unknown-key.yaml", "3:5: unknown key 'perod' in rule 'controller'")
 BAD(unknown_top, "bad-unknown-top.yaml",
-    "1:1: unknown key 'default' at top level (want defaults or rules)")
+    "1:1: unknown key 'default' at top level (want defaults, rules or can)")
 BAD(unknown_nested, "bad-unknown-nested.yaml",
     "3:30: unknown key 'max_warm' in thresholds.latency of defaults")
 BAD(unknown_match, "bad-unknown-match.yaml", "3:13: unknown key 'user' in match of rule 'x'")
@@ -582,6 +912,53 @@ BAD(cgroup_fs, "bad-cgroup-fs.yaml",
     "below /sys/fs/cgroup, e.g. /robot.slice)")
 BAD(conflict, "bad-conflict.yaml",
     "5:22: syscall 'write' is in both allow_syscalls and forbid_syscalls of rule 'strict'")
+BAD(can_unknown_key, "bad-can-unknown-key.yaml", "2:3: unknown key 'bitrat' in can")
+BAD(can_unknown_node_key, "bad-can-unknown-node-key.yaml",
+    "5:7: unknown key 'perod' in can node 'x'")
+BAD(can_unknown_nested, "bad-can-unknown-nested.yaml",
+    "3:25: unknown key 'warm' in can.defaults.jitter")
+BAD(can_defaults_period, "bad-can-defaults-period.yaml",
+    "3:5: unknown key 'period' in can.defaults")
+BAD(can_node_match, "bad-can-node-match.yaml", "5:7: unknown key 'match' in can node 'x'")
+BAD(can_id_out_of_range, "bad-can-id-out-of-range.yaml",
+    "4:11: id '0x800000000' out of range (want 0..0x1FFFFFFF)")
+BAD(can_id_err_flag, "bad-can-id-err-flag.yaml",
+    "4:11: id '0x20000000' out of range (want 0..0x1FFFFFFF)")
+BAD(can_id, "bad-can-id.yaml", "4:11: bad id '0x18G' (want e.g. 0x181, or a range 0x180-0x1ff)")
+BAD(can_id_negative, "bad-can-id-negative.yaml",
+    "4:11: bad id '-5' (want e.g. 0x181, or a range 0x180-0x1ff)")
+BAD(can_id_empty_end, "bad-can-id-empty-end.yaml",
+    "4:11: bad id '0x180-' (want e.g. 0x181, or a range 0x180-0x1ff)")
+BAD(can_id_reversed, "bad-can-id-reversed.yaml",
+    "4:11: id range '0x1ff-0x180' is reversed (want low-high)")
+BAD(can_id_mixed, "bad-can-id-mixed.yaml",
+    "4:11: id range '0x700-0x800' mixes 11-bit and 29-bit ids")
+BAD(can_id_list, "bad-can-id-list.yaml", "4:11: id must be a scalar, not a list")
+BAD(can_direction, "bad-can-direction.yaml",
+    "5:18: unknown direction 'both' (want rx, tx or any)")
+BAD(can_dup_name, "bad-can-dup-name.yaml",
+    "5:13: duplicate node name 'shoulder' (first at line 3)")
+BAD(can_no_name, "bad-can-no-name.yaml", "5:7: can node 2 has no name")
+BAD(can_no_id, "bad-can-no-id.yaml", "3:7: can node 'a' has no id")
+BAD(can_busload, "bad-can-busload.yaml",
+    "2:20: can.bus_load.warn '150%' out of range (want 0..100%)")
+BAD(can_busload_text, "bad-can-busload-text.yaml",
+    "2:21: bad percentage 'high' (want e.g. 80% or 0.8)")
+BAD(can_bitrate, "bad-can-bitrate.yaml", "2:12: bad count '500k' (want a whole number >= 0)")
+BAD(can_bool, "bad-can-bool.yaml", "2:12: bad boolean 'maybe' (want true or false)")
+BAD(can_duration, "bad-can-duration.yaml", "2:22: bad duration '1' (want e.g. 1ms)")
+BAD(can_learn, "bad-can-learn.yaml", "3:12: bad duration 'soon' (want e.g. 1ms)")
+BAD(can_periods, "bad-can-periods.yaml", "3:36: bad number '-1' (want a number >= 0)")
+BAD(can_nodes_not_list, "bad-can-nodes-not-list.yaml",
+    "2:10: can.nodes must be a list, not a map")
+BAD(can_not_map, "bad-can-not-map.yaml", "1:6: can must be a map, not a list")
+BAD(can_node_not_map, "bad-can-node-not-map.yaml",
+    "3:7: a can node must be a map, not a scalar")
+BAD(can_iface_long, "bad-can-iface-long.yaml",
+    "4:18: interface too long (at most 15 characters)")
+BAD(can_iface_name, "bad-can-iface-name.yaml", "4:18: bad interface name 'can/0'")
+BAD(can_dup_key, "bad-can-dup-key.yaml", "5:7: duplicate key 'id' in can node 'x'")
+BAD(can_group_empty, "bad-can-group-empty.yaml", "5:14: group must not be empty")
 
 #define T(name) cmocka_unit_test(test_config_##name)
 
@@ -589,7 +966,15 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		T(defaults),
+		T(can_defaults),
 		T(full),
+		T(can_full),
+		T(can_merge),
+		T(can_node_interface),
+		T(can_node_range),
+		T(can_node_direction),
+		T(can_node_eff),
+		T(can_node_first_wins),
 		T(nested_override),
 		T(match_thread_glob),
 		T(match_process_glob),
@@ -603,6 +988,7 @@ int main(void)
 		T(empty_file),
 		T(example),
 		T(bad_keeps_old),
+		T(bad_can_keeps_old),
 		T(missing_file),
 		T(bad_syntax),
 		T(bad_utf8),
@@ -641,6 +1027,37 @@ int main(void)
 		T(bad_cgroup),
 		T(bad_cgroup_fs),
 		T(bad_conflict),
+		T(bad_can_unknown_key),
+		T(bad_can_unknown_node_key),
+		T(bad_can_unknown_nested),
+		T(bad_can_defaults_period),
+		T(bad_can_node_match),
+		T(bad_can_id_out_of_range),
+		T(bad_can_id_err_flag),
+		T(bad_can_id),
+		T(bad_can_id_negative),
+		T(bad_can_id_empty_end),
+		T(bad_can_id_reversed),
+		T(bad_can_id_mixed),
+		T(bad_can_id_list),
+		T(bad_can_direction),
+		T(bad_can_dup_name),
+		T(bad_can_no_name),
+		T(bad_can_no_id),
+		T(bad_can_busload),
+		T(bad_can_busload_text),
+		T(bad_can_bitrate),
+		T(bad_can_bool),
+		T(bad_can_duration),
+		T(bad_can_learn),
+		T(bad_can_periods),
+		T(bad_can_nodes_not_list),
+		T(bad_can_not_map),
+		T(bad_can_node_not_map),
+		T(bad_can_iface_long),
+		T(bad_can_iface_name),
+		T(bad_can_dup_key),
+		T(bad_can_group_empty),
 	};
 
 	return cmocka_run_group_tests_name("config", tests, NULL, NULL);

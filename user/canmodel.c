@@ -1,0 +1,428 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/*
+ * canmodel.c - CAN snapshots, node aggregation and the CAN checks: never
+ * seen, not responding, gap jitter, bus load, error frames, error-passive and
+ * bus-off, and the CANopen profile (heartbeat, NMT state, EMCY, SDO).
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "canmodel.h"
+
+/* key_cmp - order of the entries */
+static int key_cmp(const struct rtsup_can_key *a, const struct rtsup_can_key *b)
+{
+	if (a->ifindex != b->ifindex)
+		return a->ifindex < b->ifindex ? -1 : 1;
+	if (a->can_id != b->can_id)
+		return a->can_id < b->can_id ? -1 : 1;
+	if (a->dir != b->dir)
+		return a->dir < b->dir ? -1 : 1;
+	return 0;
+}
+
+struct can_entry *can_entry_get(struct can_model *m, const struct rtsup_can_key *k,
+				bool create)
+{
+	int lo = 0, hi = m->n, c;
+
+	while (lo < hi) {
+		int mid = (lo + hi) / 2;
+
+		c = key_cmp(&m->e[mid].key, k);
+		if (!c)
+			return &m->e[mid];
+		if (c < 0)
+			lo = mid + 1;
+		else
+			hi = mid;
+	}
+	if (!create)
+		return NULL;
+	if (m->n == m->cap) {
+		int cap = m->cap ? m->cap * 2 : 64;
+		struct can_entry *e = realloc(m->e, cap * sizeof(*e));
+
+		if (!e)
+			return NULL;
+		m->e = e;
+		m->cap = cap;
+	}
+	memmove(&m->e[lo + 1], &m->e[lo], (m->n - lo) * sizeof(*m->e));
+	m->n++;
+	memset(&m->e[lo], 0, sizeof(m->e[lo]));
+	m->e[lo].key = *k;
+	m->e[lo].node = -1;
+	return &m->e[lo];
+}
+
+struct can_iface *can_iface_get(struct can_model *m, __u32 ifindex, bool create)
+{
+	int i;
+
+	for (i = 0; i < m->nifs; i++)
+		if (m->ifs[i].ifindex == ifindex)
+			return &m->ifs[i];
+	if (!create || m->nifs == CANMODEL_MAX_IFS)
+		return NULL;
+	memset(&m->ifs[m->nifs], 0, sizeof(m->ifs[0]));
+	m->ifs[m->nifs].ifindex = ifindex;
+	m->ifs[m->nifs].load = -1;
+	snprintf(m->ifs[m->nifs].name, sizeof(m->ifs[0].name), "if%u", ifindex);
+	return &m->ifs[m->nifs++];
+}
+
+const char *can_iface_name(const struct can_model *m, __u32 ifindex)
+{
+	int i;
+
+	for (i = 0; i < m->nifs; i++)
+		if (m->ifs[i].ifindex == ifindex)
+			return m->ifs[i].name;
+	return "?";
+}
+
+void can_component(const struct can_model *m, const struct can_entry *e, char *buf,
+		   size_t len)
+{
+	snprintf(buf, len, "%s 0x%x %s", can_iface_name(m, e->key.ifindex),
+		 e->key.can_id & RTSUP_CAN_EFF_MASK, e->key.dir == RTSUP_CAN_TX ? "tx" : "rx");
+}
+
+void can_model_next(struct can_model *m)
+{
+	int i;
+
+	for (i = 0; i < m->n; i++) {
+		m->e[i].prev = m->e[i].cur;
+		m->e[i].have_prev = true;
+	}
+	for (i = 0; i < m->nifs; i++) {
+		m->ifs[i].prev = m->ifs[i].cur;
+		m->ifs[i].have_prev = true;
+	}
+	for (i = 0; i < CANOPEN_NODES; i++)
+		m->co[i].emcy_prev = m->co[i].emcy_frames;
+}
+
+void can_model_free(struct can_model *m)
+{
+	free(m->e);
+	free(m->nodes);
+	memset(m, 0, sizeof(*m));
+}
+
+const char *can_nmt_name(__u8 state)
+{
+	switch (state) {
+	case 0x00: return "boot-up";
+	case 0x04: return "stopped";
+	case 0x05: return "operational";
+	case 0x7f: return "pre-operational";
+	default: return "unknown";
+	}
+}
+
+/* gap_window - the gap statistics of the last interval of one entry */
+static void gap_window(const struct can_model *m, const struct can_entry *e,
+		       struct metric_view *v)
+{
+	metric_view_window(&e->cur.gap, e->have_prev ? &e->prev.gap : NULL, m->bank, v);
+}
+
+/* merge_gap - fold one entry's gap view into a node's */
+static void merge_gap(struct metric_view *into, const struct metric_view *v)
+{
+	if (!v->count)
+		return;
+	if (!into->count || v->min < into->min)
+		into->min = v->min;
+	if (v->max > into->max)
+		into->max = v->max;
+	into->mean = (into->mean * into->count + v->mean * v->count) / (into->count + v->count);
+	if (v->p99 > into->p99)
+		into->p99 = v->p99;	/* the worst identifier's */
+	into->count += v->count;
+}
+
+/* learn - an identifier's period from its first seconds of gaps */
+static void learn(struct can_entry *e, const struct can_thresholds *th, __u64 now)
+{
+	if (e->learned || !e->cur.frames || e->cur.gap.count < 3)
+		return;
+	if (now - e->cur.first < th->learn_s * 1e9)
+		return;
+	e->learned = e->cur.gap.sum / e->cur.gap.count;
+}
+
+/* check_responding - not responding and gap jitter of one component */
+static void check_responding(struct status *st, const struct can_thresholds *th,
+			     __u64 last, __u64 period, const struct metric_view *gap, __u64 now)
+{
+	double k;
+	__u64 j;
+
+	if (period && last && now > last) {
+		k = (double)(now - last) / period;
+		if (th->error_periods && k >= th->error_periods)
+			status_add(st, LEVEL_ERROR, "not responding: no frame for %.1f ms (%.0f periods)",
+				   (now - last) / 1e6, k);
+		else if (th->warn_periods && k >= th->warn_periods)
+			status_add(st, LEVEL_WARN, "not responding: no frame for %.1f ms (%.0f periods)",
+				   (now - last) / 1e6, k);
+	}
+	if (!period || !gap->count || (!th->jitter_warn_ns && !th->jitter_error_ns))
+		return;
+	j = gap->max > period ? gap->max - period : 0;
+	if (gap->min < period && period - gap->min > j)
+		j = period - gap->min;
+	if (th->jitter_error_ns && j > th->jitter_error_ns)
+		status_add(st, LEVEL_ERROR, "gap jitter %.1f us > %.1f us", j / 1e3,
+			   th->jitter_error_ns / 1e3);
+	else if (th->jitter_warn_ns && j > th->jitter_warn_ns)
+		status_add(st, LEVEL_WARN, "gap jitter %.1f us > %.1f us", j / 1e3,
+			   th->jitter_warn_ns / 1e3);
+}
+
+/* check_iface - bus load, error frames, error-passive and bus-off */
+static void check_iface(struct can_iface *f, const struct can_config *cc, double interval_s)
+{
+	__u64 bits = f->cur.bits[0] + f->cur.bits[1], err = f->cur.err_frames, busoff;
+	__u8 crtl = f->cur.err_data[1];
+
+	if (f->have_prev) {
+		bits -= f->prev.bits[0] + f->prev.bits[1];
+		err -= f->prev.err_frames;
+	}
+	busoff = f->cur.err_class[6] - (f->have_prev ? f->prev.err_class[6] : 0);
+	f->load = f->bitrate && interval_s > 0 ? bits / (interval_s * f->bitrate) : -1;
+	status_reset(&f->st);
+	if (f->load >= 0 && cc->busload_error && f->load > cc->busload_error)
+		status_add(&f->st, LEVEL_ERROR, "bus load %.1f %% > %.0f %%", f->load * 100,
+			   cc->busload_error * 100);
+	else if (f->load >= 0 && cc->busload_warn && f->load > cc->busload_warn)
+		status_add(&f->st, LEVEL_WARN, "bus load %.1f %% > %.0f %%", f->load * 100,
+			   cc->busload_warn * 100);
+	if (cc->err_error && err >= cc->err_error)
+		status_add(&f->st, LEVEL_ERROR, "%llu error frames in the last interval",
+			   (unsigned long long)err);
+	else if (cc->err_warn && err >= cc->err_warn)
+		status_add(&f->st, LEVEL_WARN, "%llu error frames in the last interval",
+			   (unsigned long long)err);
+	if (busoff)
+		status_add(&f->st, LEVEL_ERROR, "bus-off");
+	/* the controller's state is what its last error frame said (CAN_ERR_CRTL) */
+	else if (f->cur.err_frames && (f->cur.err_id & RTSUP_CAN_ERR_CRTL) &&
+		 (crtl & (RTSUP_CAN_ERR_CRTL_RX_PASSIVE | RTSUP_CAN_ERR_CRTL_TX_PASSIVE)))
+		status_add(&f->st, LEVEL_WARN, "controller error-passive (%s)",
+			   crtl & RTSUP_CAN_ERR_CRTL_TX_PASSIVE ? "tx" : "rx");
+}
+
+/* canopen_update - the CANopen view of one entry (11-bit ids only) */
+static void canopen_update(struct can_model *m, const struct can_entry *e)
+{
+	__u32 id = e->key.can_id, fn = id & 0x780, n = id & 0x7f;
+	struct canopen_node *co;
+
+	if ((id & RTSUP_CAN_EFF_FLAG) || !n)
+		return;
+	co = &m->co[n];
+	switch (fn) {
+	case 0x700:	/* heartbeat, or boot-up */
+		co->seen = true;
+		co->heartbeat_last = e->cur.last;
+		co->nmt_state = e->cur.data[0];
+		break;
+	case 0x080:	/* EMCY */
+		co->seen = true;
+		co->emcy_frames = e->cur.frames;
+		co->emcy_code = e->cur.data[0] | e->cur.data[1] << 8;
+		co->emcy_reg = e->cur.data[2];
+		break;
+	case 0x580:	/* SDO response, matched to its request in the kernel */
+		co->seen = true;
+		co->sdo_count += e->cur.resp_count;
+		co->sdo_sum += e->cur.resp_sum;
+		if (e->cur.resp_max > co->sdo_max)
+			co->sdo_max = e->cur.resp_max;
+		break;
+	}
+}
+
+/* check_canopen - heartbeat timeout, NMT state, new emergencies */
+static void check_canopen(struct canopen_node *co, const struct can_config *cc, __u64 now)
+{
+	status_reset(&co->st);
+	if (co->heartbeat_last && cc->heartbeat_timeout_ns &&
+	    now - co->heartbeat_last > cc->heartbeat_timeout_ns)
+		status_add(&co->st, LEVEL_ERROR, "no heartbeat for %.0f ms",
+			   (now - co->heartbeat_last) / 1e6);
+	else if (co->heartbeat_last && co->nmt_state != 0x05)
+		status_add(&co->st, LEVEL_WARN, "NMT state %s", can_nmt_name(co->nmt_state));
+	if (co->emcy_frames > co->emcy_prev) {
+		if (co->emcy_code)
+			status_add(&co->st, LEVEL_ERROR, "EMCY error code 0x%04x, register 0x%02x",
+				   co->emcy_code, co->emcy_reg);
+		else
+			status_add(&co->st, LEVEL_OK, "EMCY error reset");
+	}
+}
+
+/* nodes_prepare - one view per configured node, kept across intervals */
+static void nodes_prepare(struct can_model *m, const struct config *cfg)
+{
+	int i;
+
+	if (m->nnodes != cfg->can.nnodes) {
+		free(m->nodes);
+		m->nodes = calloc(cfg->can.nnodes ? cfg->can.nnodes : 1, sizeof(*m->nodes));
+		m->nnodes = m->nodes ? cfg->can.nnodes : 0;
+	}
+	for (i = 0; i < m->nnodes; i++) {
+		struct can_node_view *v = &m->nodes[i];
+
+		v->frames = v->frames_win = v->last = 0;
+		v->period = cfg->can.nodes[i].period_ns;
+		memset(&v->gap, 0, sizeof(v->gap));
+	}
+}
+
+/* judge_groups - a group is as bad as its worst node */
+static void judge_groups(struct can_model *m, const struct config *cfg, can_judge_fn judge,
+			 void *ctx)
+{
+	char comp[96];
+	int i, g;
+
+	m->ngroups = 0;
+	for (i = 0; i < m->nnodes; i++) {
+		const char *name = cfg->can.nodes[i].group;
+
+		if (!*name)
+			continue;
+		for (g = 0; g < m->ngroups && strcmp(m->groups[g].name, name); g++)
+			;
+		if (g == m->ngroups && g < CANMODEL_MAX_GROUPS) {
+			struct can_group_view *gv = &m->groups[m->ngroups++];
+			struct status old = gv->st;
+
+			if (strcmp(gv->name, name)) {
+				memset(gv, 0, sizeof(*gv));
+				old = gv->st;
+			}
+			snprintf(gv->name, sizeof(gv->name), "%s", name);
+			status_reset(&gv->st);
+			gv->st.level = old.level;	/* recomputed below */
+		}
+	}
+	for (g = 0; g < m->ngroups; g++) {
+		struct can_group_view *gv = &m->groups[g];
+		struct status old = gv->st, st;
+
+		status_reset(&st);
+		for (i = 0; i < m->nnodes; i++)
+			if (!strcmp(cfg->can.nodes[i].group, gv->name) &&
+			    m->nodes[i].st.level >= LEVEL_WARN)
+				status_add(&st, m->nodes[i].st.level, "%s: %s",
+					   cfg->can.nodes[i].name, level_name(m->nodes[i].st.level));
+		gv->st = st;
+		snprintf(comp, sizeof(comp), "group:%s", gv->name);
+		judge(ctx, comp, &old, &gv->st, &gv->worst);
+	}
+}
+
+void can_model_judge(struct can_model *m, const struct config *cfg, __u64 now,
+		     double interval_s, can_judge_fn judge, void *ctx)
+{
+	const struct can_config *cc = &cfg->can;
+	struct metric_view gap;
+	struct status old;
+	char comp[96];
+	int i;
+
+	nodes_prepare(m, cfg);
+	for (i = 0; i < CANOPEN_NODES; i++) {
+		m->co[i].sdo_count = m->co[i].sdo_sum = m->co[i].sdo_max = 0;
+	}
+	for (i = 0; i < m->n; i++) {
+		struct can_entry *e = &m->e[i];
+		const struct can_thresholds *th;
+
+		e->node = config_can_node(cfg, can_iface_name(m, e->key.ifindex), e->key.can_id,
+					  e->key.dir);
+		th = e->node >= 0 ? &cc->nodes[e->node].th : &cc->defaults;
+		learn(e, th, now);
+		gap_window(m, e, &gap);
+		if (cc->canopen)
+			canopen_update(m, e);
+		if (e->node >= 0) {
+			struct can_node_view *v = &m->nodes[e->node];
+
+			v->frames += e->cur.frames;
+			v->frames_win += e->cur.frames - (e->have_prev ? e->prev.frames : 0);
+			if (e->cur.last > v->last)
+				v->last = e->cur.last;
+			if (!v->period)
+				v->period = e->learned;
+			merge_gap(&v->gap, &gap);
+			continue;
+		}
+		/* an identifier no node names: judged on its own learned period */
+		old = e->st;
+		status_reset(&e->st);
+		check_responding(&e->st, th, e->cur.last, e->learned, &gap, now);
+		can_component(m, e, comp, sizeof(comp));
+		judge(ctx, comp, &old, &e->st, &e->worst);
+	}
+	for (i = 0; i < m->nnodes; i++) {
+		struct can_node_view *v = &m->nodes[i];
+		const struct can_node *n = &cc->nodes[i];
+
+		old = v->st;
+		status_reset(&v->st);
+		if (!v->frames && n->th.init_timeout_s &&
+		    now - m->start_ns >= n->th.init_timeout_s * 1e9)
+			status_add(&v->st, LEVEL_WARN, "not initialized: never seen in %.1f s",
+				   (now - m->start_ns) / 1e9);
+		check_responding(&v->st, &n->th, v->last, v->period, &v->gap, now);
+		snprintf(comp, sizeof(comp), "node:%s", n->name);
+		judge(ctx, comp, &old, &v->st, &v->worst);
+	}
+	judge_groups(m, cfg, judge, ctx);
+	for (i = 0; i < m->nifs; i++) {
+		old = m->ifs[i].st;
+		check_iface(&m->ifs[i], cc, interval_s);
+		judge(ctx, m->ifs[i].name, &old, &m->ifs[i].st, &m->ifs[i].worst);
+	}
+	for (i = 1; cc->canopen && i < CANOPEN_NODES; i++) {
+		if (!m->co[i].seen)
+			continue;
+		old = m->co[i].st;
+		check_canopen(&m->co[i], cc, now);
+		snprintf(comp, sizeof(comp), "canopen:%d", i);
+		judge(ctx, comp, &old, &m->co[i].st, &m->co[i].worst);
+	}
+}
+
+enum level can_worst(const struct can_model *m)
+{
+	enum level w = LEVEL_OK;
+	int i;
+
+	for (i = 0; i < m->n; i++)
+		if (m->e[i].worst > w)
+			w = m->e[i].worst;
+	for (i = 0; i < m->nnodes; i++)
+		if (m->nodes[i].worst > w)
+			w = m->nodes[i].worst;
+	for (i = 0; i < m->ngroups; i++)
+		if (m->groups[i].worst > w)
+			w = m->groups[i].worst;
+	for (i = 0; i < m->nifs; i++)
+		if (m->ifs[i].worst > w)
+			w = m->ifs[i].worst;
+	for (i = 0; i < CANOPEN_NODES; i++)
+		if (m->co[i].worst > w)
+			w = m->co[i].worst;
+	return w;
+}
