@@ -36,7 +36,7 @@ UNIT_BINS := $(patsubst tests/unit/%.c,$(OUT)/tests/%,$(UNIT_SRCS))
 # keep the BPF objects: the skeleton and the benchmark use them
 .SECONDARY:
 
-all: $(OUT)/rtsup-trace $(OUT)/rtsup-loadgen
+all: $(OUT)/rtsup-trace $(OUT)/rtsup-loadgen $(OUT)/rtsup-cansim
 
 $(OUT) $(OUT)/user $(OUT)/tests:
 	$(Q)mkdir -p $@
@@ -84,6 +84,10 @@ $(OUT)/rtsup-loadgen: scripts/loadgen/loadgen.c | $(OUT)
 	$(call msg,CC,$@)
 	$(Q)$(CC) $(CFLAGS) $(WARN) $(CPPFLAGS) $< -lpthread -ljansson -o $@
 
+$(OUT)/rtsup-cansim: scripts/cansim/cansim.c | $(OUT)
+	$(call msg,CC,$@)
+	$(Q)$(CC) $(CFLAGS) $(WARN) $(CPPFLAGS) $< -lpthread -ljansson -o $@
+
 # Unit tests: plain C from include/ and user/, no kernel, no root.
 UNIT_DEPS_test_model  := user/model.c
 UNIT_DEPS_test_syscalls := user/syscalls.c
@@ -101,6 +105,8 @@ UNIT_DEPS_test_service := user/service.c user/status.c
 UNIT_LIBS_test_service := -lsystemd
 UNIT_DEPS_test_promexp := user/promexp.c
 UNIT_LIBS_test_promexp := -lmicrohttpd -lpthread
+UNIT_DEPS_test_canmodel := user/canmodel.c user/model.c user/status.c user/config.c user/syscalls.c
+UNIT_LIBS_test_canmodel := -lyaml
 .SECONDEXPANSION:
 $(OUT)/tests/%: tests/unit/%.c $$(UNIT_DEPS_$$*) $(OUT)/syscall_table.h | $(OUT)/tests
 	$(call msg,CC,$@)

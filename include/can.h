@@ -154,11 +154,14 @@ RTSUP_INLINE void can_id_account(struct rtsup_can_id *v, __u64 now, __u32 can_id
 	if (!v->frames)
 		v->first = now;
 	v->frames++;
-	v->bytes += len;
 	v->last = now;
-	v->len = len;
-	if (can_id & RTSUP_CAN_RTR_FLAG)
+	if (can_id & RTSUP_CAN_RTR_FLAG) {
+		/* a remote request carries no data: keep the last payload */
 		v->rtr++;
+		return;
+	}
+	v->bytes += len;
+	v->len = len;
 	for (i = 0; i < 8; i++)
 		v->data[i] = i < len ? data[i] : 0;
 }
@@ -184,7 +187,8 @@ RTSUP_INLINE void can_if_account(struct rtsup_can_if *f, __u64 now, __u32 dir, _
 		return;
 	}
 	f->frames[dir]++;
-	f->bytes[dir] += len;
+	if (!(can_id & RTSUP_CAN_RTR_FLAG))
+		f->bytes[dir] += len;
 	f->bits[dir] += can_frame_bits(can_id, len, kind);
 	if (can_id & RTSUP_CAN_RTR_FLAG)
 		f->rtr++;

@@ -101,8 +101,9 @@ void can_model_next(struct can_model *m)
 		m->ifs[i].prev = m->ifs[i].cur;
 		m->ifs[i].have_prev = true;
 	}
-	for (i = 0; i < CANOPEN_NODES; i++)
-		m->co[i].emcy_prev = m->co[i].emcy_frames;
+	for (i = 0; i < CANMODEL_MAX_IFS * CANOPEN_NODES; i++)
+		m->co[i / CANOPEN_NODES][i % CANOPEN_NODES].emcy_prev =
+			m->co[i / CANOPEN_NODES][i % CANOPEN_NODES].emcy_frames;
 }
 
 void can_model_free(struct can_model *m)
@@ -222,13 +223,18 @@ static void check_iface(struct can_iface *f, const struct can_config *cc, double
 static void canopen_update(struct can_model *m, const struct can_entry *e)
 {
 	__u32 id = e->key.can_id, fn = id & 0x780, n = id & 0x7f;
+	struct can_iface *f = can_iface_get(m, e->key.ifindex, false);
 	struct canopen_node *co;
 
-	if ((id & RTSUP_CAN_EFF_FLAG) || !n)
+	if ((id & RTSUP_CAN_EFF_FLAG) || !n || !f)
 		return;
-	co = &m->co[n];
+	/* node ids repeat on every bus (one bus per arm): per interface */
+	co = &m->co[f - m->ifs][n];
 	switch (fn) {
 	case 0x700:	/* heartbeat, or boot-up */
+		/* a master's node-guarding request (RTR) is not the node's heartbeat */
+		if (e->cur.rtr == e->cur.frames)
+			return;
 		co->seen = true;
 		co->heartbeat_last = e->cur.last;
 		co->nmt_state = e->cur.data[0];
@@ -253,7 +259,8 @@ static void canopen_update(struct can_model *m, const struct can_entry *e)
 static void check_canopen(struct canopen_node *co, const struct can_config *cc, __u64 now)
 {
 	status_reset(&co->st);
-	if (co->heartbeat_last && cc->heartbeat_timeout_ns &&
+	/* a heartbeat stamped after 'now' (read after it) is fresh, not 584 years old */
+	if (co->heartbeat_last && cc->heartbeat_timeout_ns && now > co->heartbeat_last &&
 	    now - co->heartbeat_last > cc->heartbeat_timeout_ns)
 		status_add(&co->st, LEVEL_ERROR, "no heartbeat for %.0f ms",
 			   (now - co->heartbeat_last) / 1e6);
@@ -303,16 +310,13 @@ static void judge_groups(struct can_model *m, const struct config *cfg, can_judg
 		for (g = 0; g < m->ngroups && strcmp(m->groups[g].name, name); g++)
 			;
 		if (g == m->ngroups && g < CANMODEL_MAX_GROUPS) {
+			/* the same slot keeps its last verdict while its name is the same */
 			struct can_group_view *gv = &m->groups[m->ngroups++];
-			struct status old = gv->st;
 
 			if (strcmp(gv->name, name)) {
 				memset(gv, 0, sizeof(*gv));
-				old = gv->st;
+				snprintf(gv->name, sizeof(gv->name), "%s", name);
 			}
-			snprintf(gv->name, sizeof(gv->name), "%s", name);
-			status_reset(&gv->st);
-			gv->st.level = old.level;	/* recomputed below */
 		}
 	}
 	for (g = 0; g < m->ngroups; g++) {
@@ -341,8 +345,10 @@ void can_model_judge(struct can_model *m, const struct config *cfg, __u64 now,
 	int i;
 
 	nodes_prepare(m, cfg);
-	for (i = 0; i < CANOPEN_NODES; i++) {
-		m->co[i].sdo_count = m->co[i].sdo_sum = m->co[i].sdo_max = 0;
+	for (i = 0; i < CANMODEL_MAX_IFS * CANOPEN_NODES; i++) {
+		struct canopen_node *co = &m->co[i / CANOPEN_NODES][i % CANOPEN_NODES];
+
+		co->sdo_count = co->sdo_sum = co->sdo_max = 0;
 	}
 	for (i = 0; i < m->n; i++) {
 		struct can_entry *e = &m->e[i];
@@ -394,13 +400,16 @@ void can_model_judge(struct can_model *m, const struct config *cfg, __u64 now,
 		check_iface(&m->ifs[i], cc, interval_s);
 		judge(ctx, m->ifs[i].name, &old, &m->ifs[i].st, &m->ifs[i].worst);
 	}
-	for (i = 1; cc->canopen && i < CANOPEN_NODES; i++) {
-		if (!m->co[i].seen)
+	for (i = 0; cc->canopen && i < m->nifs * CANOPEN_NODES; i++) {
+		struct canopen_node *co = &m->co[i / CANOPEN_NODES][i % CANOPEN_NODES];
+
+		if (!co->seen)
 			continue;
-		old = m->co[i].st;
-		check_canopen(&m->co[i], cc, now);
-		snprintf(comp, sizeof(comp), "canopen:%d", i);
-		judge(ctx, comp, &old, &m->co[i].st, &m->co[i].worst);
+		old = co->st;
+		check_canopen(co, cc, now);
+		snprintf(comp, sizeof(comp), "canopen:%s:%d", m->ifs[i / CANOPEN_NODES].name,
+			 i % CANOPEN_NODES);
+		judge(ctx, comp, &old, &co->st, &co->worst);
 	}
 }
 
@@ -421,8 +430,8 @@ enum level can_worst(const struct can_model *m)
 	for (i = 0; i < m->nifs; i++)
 		if (m->ifs[i].worst > w)
 			w = m->ifs[i].worst;
-	for (i = 0; i < CANOPEN_NODES; i++)
-		if (m->co[i].worst > w)
-			w = m->co[i].worst;
+	for (i = 0; i < CANMODEL_MAX_IFS * CANOPEN_NODES; i++)
+		if (m->co[i / CANOPEN_NODES][i % CANOPEN_NODES].worst > w)
+			w = m->co[i / CANOPEN_NODES][i % CANOPEN_NODES].worst;
 	return w;
 }

@@ -53,7 +53,7 @@ struct can_node_view {
 	enum level worst;
 };
 
-/* A CANopen node (1..127), from the COB-IDs of its frames. */
+/* A CANopen node (1..127) of one bus, from the COB-IDs of its frames. */
 struct canopen_node {
 	bool seen;
 	__u64 heartbeat_last;		/* 0x700+n */
@@ -86,7 +86,7 @@ struct can_model {
 	int nifs;
 	struct can_node_view *nodes;	/* one per configured node */
 	int nnodes;
-	struct canopen_node co[CANOPEN_NODES];
+	struct canopen_node co[CANMODEL_MAX_IFS][CANOPEN_NODES];	/* by interface slot */
 	struct can_group_view groups[CANMODEL_MAX_GROUPS];
 	int ngroups;
 	__u64 start_ns;			/* when supervision started */

@@ -103,12 +103,13 @@ void can_table(const struct can_model *m, const struct config *cfg, __u64 now,
 	for (i = 0; i < m->ngroups; i++)
 		printf("  group:%-16.16s %s\n", m->groups[i].name,
 		       level_name(total ? m->groups[i].worst : m->groups[i].st.level));
-	for (i = 1; i < CANOPEN_NODES; i++) {
-		const struct canopen_node *co = &m->co[i];
+	for (i = 0; i < m->nifs * CANOPEN_NODES; i++) {
+		const struct canopen_node *co = &m->co[i / CANOPEN_NODES][i % CANOPEN_NODES];
 
 		if (!co->seen)
 			continue;
-		printf("  canopen:%-3d NMT %-15s EMCY %llu (last 0x%04x) SDO %llu  %s\n", i,
+		printf("  canopen:%s:%-3d NMT %-15s EMCY %llu (last 0x%04x) SDO %llu  %s\n",
+		       m->ifs[i / CANOPEN_NODES].name, i % CANOPEN_NODES,
 		       co->heartbeat_last ? can_nmt_name(co->nmt_state) : "-",
 		       (unsigned long long)co->emcy_frames, co->emcy_code,
 		       (unsigned long long)co->sdo_count,
@@ -130,10 +131,13 @@ void can_table(const struct can_model *m, const struct config *cfg, __u64 now,
 			printf("  %-5s %s: %s\n", level_name(m->e[i].st.level), comp,
 			       m->e[i].st.msg[j]);
 	}
-	for (i = 1; !total && i < CANOPEN_NODES; i++)
-		for (int j = 0; m->co[i].seen && j < m->co[i].st.nmsg; j++)
-			printf("  %-5s canopen:%d: %s\n", level_name(m->co[i].st.level), i,
-			       m->co[i].st.msg[j]);
+	for (i = 0; !total && i < m->nifs * CANOPEN_NODES; i++) {
+		const struct canopen_node *co = &m->co[i / CANOPEN_NODES][i % CANOPEN_NODES];
+
+		for (int j = 0; co->seen && j < co->st.nmsg; j++)
+			printf("  %-5s canopen:%s:%d: %s\n", level_name(co->st.level),
+			       m->ifs[i / CANOPEN_NODES].name, i % CANOPEN_NODES, co->st.msg[j]);
+	}
 }
 
 /* json_metric_can - a gap metric */
@@ -236,13 +240,15 @@ json_t *can_json(const struct can_model *m, const struct config *cfg, __u64 now,
 		json_array_append_new(groups, json_pack("{s:s,s:o}", "name", m->groups[i].name,
 							"status", json_st(&m->groups[i].st,
 									  m->groups[i].worst)));
-	for (i = 1; i < CANOPEN_NODES; i++) {
-		const struct canopen_node *c = &m->co[i];
+	for (i = 0; i < m->nifs * CANOPEN_NODES; i++) {
+		const struct canopen_node *c = &m->co[i / CANOPEN_NODES][i % CANOPEN_NODES];
 
 		if (!c->seen)
 			continue;
 		json_array_append_new(co, json_pack(
-			"{s:i,s:s,s:o,s:I,s:i,s:i,s:I,s:f,s:I,s:o}", "node", i, "nmt_state",
+			"{s:s,s:i,s:s,s:o,s:I,s:i,s:i,s:I,s:f,s:I,s:o}",
+			"interface", m->ifs[i / CANOPEN_NODES].name, "node", i % CANOPEN_NODES,
+			"nmt_state",
 			c->heartbeat_last ? can_nmt_name(c->nmt_state) : "unknown",
 			"heartbeat_ago_ms", c->heartbeat_last ?
 			json_real((now - c->heartbeat_last) / 1e6) : json_null(),
