@@ -70,7 +70,7 @@ $(OUT)/syscall_table.h: scripts/gen-syscalls | $(OUT)
 	$(call msg,GEN,$@)
 	$(Q)CC="$(CC)" scripts/gen-syscalls > $@
 
-$(USER_OBJS): $(OUT)/rtsup.skel.h $(OUT)/syscall_table.h
+$(USER_OBJS): $(OUT)/rtsup.skel.h $(OUT)/rtsup_empty.skel.h $(OUT)/syscall_table.h
 
 $(OUT)/user/%.o: user/%.c | $(OUT)/user
 	$(call msg,CC,$@)
@@ -128,7 +128,9 @@ demo: all
 deps:
 	$(Q)scripts/install-deps
 
+# Overhead against the floor and peer tools; installs the peers first (not in make deps).
 bench: all $(OUT)/rtsup_empty.bpf.o
+	$(Q)scripts/install-bench-deps
 	$(Q)scripts/bench
 
 format-check:

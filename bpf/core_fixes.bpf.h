@@ -27,4 +27,14 @@ static __always_inline __s64 get_task_state(void *task)
 	return BPF_CORE_READ((struct task_struct *)task, __state);
 }
 
+/* get_task_state_btf - the same with plain loads, for a BTF pointer (tp_btf) */
+static __always_inline __s64 get_task_state_btf(struct task_struct *task)
+{
+	struct task_struct___o *t = (void *)task;
+
+	if (bpf_core_field_exists(t->state))
+		return t->state;
+	return task->__state;
+}
+
 #endif /* RTSUP_CORE_FIXES_BPF_H */

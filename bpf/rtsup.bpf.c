@@ -24,6 +24,13 @@ static __always_inline void zero_mem(void *p, __u32 n);
 #include "cycle.h"
 #include "can.h"
 
+/*
+ * TREAD - a field of a task_struct argument: tp_btf programs get BTF
+ * pointers and read with a plain load; raw_tp programs need bpf_probe_read.
+ * 'btf' is a constant, so each program keeps one of the two.
+ */
+#define TREAD(btf, t, f) ((btf) ? (t)->f : BPF_CORE_READ(t, f))
+
 #define TIMER_ABSTIME	1
 #define SCHED_FIFO	1
 #define SCHED_RR	2
@@ -49,6 +56,8 @@ const volatile char cfg_comms[RTSUP_MAX_COMMS][RTSUP_COMM_LEN];
 /* Written by userspace while running. */
 __u32 epoch;			/* flipped every interval */
 __s64 clock_off[16];		/* clock id -> its offset to CLOCK_MONOTONIC */
+/* Thread ids that may be targets: the hooks' first test, one load (rtsup.h) */
+__u64 tidmask[RTSUP_TIDMASK_WORDS];
 
 struct {
 	__uint(type, BPF_MAP_TYPE_HASH);
@@ -147,6 +156,18 @@ static __always_inline void zero_mem(void *p, __u32 n)
 
 	if (tmpl && n <= sizeof(struct rtsup_thread))
 		bpf_probe_read_kernel(p, n, tmpl);
+}
+
+/* maybe_target - may this thread be in "threads"? No: return at once */
+static __always_inline int maybe_target(__u32 tid)
+{
+	return (tidmask[RTSUP_TIDMASK_WORD(tid)] & RTSUP_TIDMASK_BIT(tid)) != 0;
+}
+
+/* lookup_thread - the thread's entry, NULL for every thread that is no target */
+static __always_inline struct rtsup_thread *lookup_thread(__u32 tid)
+{
+	return maybe_target(tid) ? bpf_map_lookup_elem(&threads, &tid) : NULL;
 }
 
 /* count - bump one of our own counters */
@@ -250,6 +271,7 @@ static __always_inline struct rtsup_thread *add_thread(struct task_struct *task,
 	tmpl = bpf_map_lookup_elem(&zero_thread, &zero);
 	if (!tmpl)
 		return NULL;
+	__sync_fetch_and_or(&tidmask[RTSUP_TIDMASK_WORD(tid)], RTSUP_TIDMASK_BIT(tid));
 	err = bpf_map_update_elem(&threads, &tid, tmpl, BPF_NOEXIST);
 	if (err && err != -EEXIST) {
 		count(RTSUP_C_MAP_FULL);
@@ -357,7 +379,7 @@ static __always_inline __u64 sleep_release(struct pt_regs *regs, __u32 cls, __u6
 static __always_inline int on_sys_enter(struct pt_regs *regs, long id)
 {
 	__u32 tid = (__u32)bpf_get_current_pid_tgid();
-	struct rtsup_thread *t = bpf_map_lookup_elem(&threads, &tid);
+	struct rtsup_thread *t = lookup_thread(tid);
 	struct rtsup_thread_cfg *tc;
 	struct task_struct *task;
 	struct rtsup_cycle c;
@@ -412,7 +434,7 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id)
 static __always_inline int on_sys_exit(void)
 {
 	__u32 tid = (__u32)bpf_get_current_pid_tgid();
-	struct rtsup_thread *t = bpf_map_lookup_elem(&threads, &tid);
+	struct rtsup_thread *t = lookup_thread(tid);
 	struct task_struct *task;
 
 	if (!t || !t->cs.in_delim)
@@ -425,19 +447,22 @@ static __always_inline int on_sys_exit(void)
 
 /* on_switch - one thread leaves the CPU, another gets it */
 static __always_inline int on_switch(bool preempt, struct task_struct *prev,
-				     struct task_struct *next)
+				     struct task_struct *next, const int btf)
 {
-	__u32 prev_tid = BPF_CORE_READ(prev, pid), next_tid = BPF_CORE_READ(next, pid);
-	struct rtsup_thread *pt = bpf_map_lookup_elem(&threads, &prev_tid);
-	struct rtsup_thread *nt = bpf_map_lookup_elem(&threads, &next_tid);
+	__u32 prev_tid = TREAD(btf, prev, pid), next_tid = TREAD(btf, next, pid);
+	struct rtsup_thread *pt, *nt;
 	struct rtsup_cycle c;
 	struct cycle_cfg cf;
 	__u64 now;
 	__u32 ev;
 	int policy;
 
+	if (!maybe_target(prev_tid) && !maybe_target(next_tid) && !cfg_rt)
+		return 0;
+	pt = bpf_map_lookup_elem(&threads, &prev_tid);
+	nt = bpf_map_lookup_elem(&threads, &next_tid);
 	if (!nt && cfg_rt && next_tid) {
-		policy = BPF_CORE_READ(next, policy);
+		policy = TREAD(btf, next, policy);
 		if (policy == SCHED_FIFO || policy == SCHED_RR || policy == SCHED_DEADLINE)
 			nt = add_thread(next, bpf_ktime_get_ns());
 	}
@@ -445,12 +470,13 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 		return 0;
 	now = bpf_ktime_get_ns();
 	if (pt) {
-		int voluntary = !preempt && get_task_state(prev) != 0;
+		int voluntary = !preempt && (btf ? get_task_state_btf(prev) :
+						      get_task_state(prev)) != 0;
 
 		cf = cfg(pt->cs.mode == RTSUP_MODE_DELIM ? NULL :
 			 bpf_map_lookup_elem(&thread_cfg, &prev_tid));
-		ev = cycle_switch_out(pt, &cf, now, voluntary, BPF_CORE_READ(prev, min_flt),
-				      BPF_CORE_READ(prev, maj_flt), &c);
+		ev = cycle_switch_out(pt, &cf, now, voluntary, TREAD(btf, prev, min_flt),
+				      TREAD(btf, prev, maj_flt), &c);
 		if (ev & CYC_EV_BLOCK)
 			emit(RTSUP_EV_UNSAFE, pt, now, RTSUP_U_BLOCK, 0);
 		if (ev & CYC_EV_CLOSED)
@@ -459,8 +485,8 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 	if (nt) {
 		__u32 cpu = bpf_get_smp_processor_id();
 
-		ev = cycle_switch_in(nt, now, cpu, BPF_CORE_READ(next, min_flt),
-				     BPF_CORE_READ(next, maj_flt));
+		ev = cycle_switch_in(nt, now, cpu, TREAD(btf, next, min_flt),
+				     TREAD(btf, next, maj_flt));
 		if (ev & CYC_EV_MIGRATE)
 			emit(RTSUP_EV_UNSAFE, nt, now, RTSUP_U_MIGRATE, cpu);
 	}
@@ -468,12 +494,12 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 }
 
 /* on_wakeup - remember when a target became runnable */
-static __always_inline int on_wakeup(struct task_struct *p)
+static __always_inline int on_wakeup(struct task_struct *p, const int btf)
 {
-	__u32 tid = BPF_CORE_READ(p, pid);
-	struct rtsup_thread *t = bpf_map_lookup_elem(&threads, &tid);
+	__u32 tid = TREAD(btf, p, pid);
+	struct rtsup_thread *t = lookup_thread(tid);
 
-	if (t)
+	if (t && cycle_wakeup_read(t))
 		cycle_wakeup(t, bpf_ktime_get_ns());
 	return 0;
 }
@@ -684,7 +710,7 @@ static __always_inline int on_can(const struct sk_buff *skb, __u32 dir)
 #define BODY(x) x
 #endif
 
-#define RTSUP_PROGS(kind, sfx)							\
+#define RTSUP_PROGS(kind, sfx, btf)						\
 SEC(kind "/sys_enter")								\
 int BPF_PROG(sys_enter_##sfx, struct pt_regs *regs, long id)			\
 { return BODY(on_sys_enter(regs, id)); }					\
@@ -694,10 +720,10 @@ int BPF_PROG(sys_exit_##sfx, struct pt_regs *regs, long ret)			\
 SEC(kind "/sched_switch")							\
 int BPF_PROG(sched_switch_##sfx, bool preempt, struct task_struct *prev,	\
 	     struct task_struct *next)						\
-{ return BODY(on_switch(preempt, prev, next)); }				\
+{ return BODY(on_switch(preempt, prev, next, btf)); }				\
 SEC(kind "/sched_wakeup")							\
 int BPF_PROG(sched_wakeup_##sfx, struct task_struct *p)				\
-{ return BODY(on_wakeup(p)); }							\
+{ return BODY(on_wakeup(p, btf)); }						\
 SEC(kind "/sched_process_fork")							\
 int BPF_PROG(sched_process_fork_##sfx, struct task_struct *parent,		\
 	     struct task_struct *child)						\
@@ -723,8 +749,8 @@ SEC(kind "/netif_receive_skb")							\
 int BPF_PROG(can_recv_##sfx, const struct sk_buff *skb)				\
 { return BODY(on_can(skb, RTSUP_CAN_RX)); }
 
-RTSUP_PROGS("tp_btf", btf)
-RTSUP_PROGS("raw_tp", raw)
+RTSUP_PROGS("tp_btf", btf, 1)
+RTSUP_PROGS("raw_tp", raw, 0)
 RTSUP_CAN_PROGS("tp_btf", btf)
 RTSUP_CAN_PROGS("raw_tp", raw)
 

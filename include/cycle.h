@@ -255,6 +255,16 @@ RTSUP_INLINE void cycle_delim_exit(struct rtsup_thread *t, __u64 now,
 	cycle_begin(cs, start, minflt, majflt);
 }
 
+/*
+ * cycle_wakeup_read - will the time of a wakeup now ever be read? Only by
+ * activations and by a delimiter without a requested release: a periodic
+ * thread sleeping until a requested release needs no clock read here.
+ */
+RTSUP_INLINE int cycle_wakeup_read(const struct rtsup_thread *t)
+{
+	return t->cs.mode != RTSUP_MODE_DELIM || (t->cs.in_delim && !t->cs.expected);
+}
+
 /* cycle_wakeup - sched_wakeup of the thread */
 RTSUP_INLINE void cycle_wakeup(struct rtsup_thread *t, __u64 now)
 {

@@ -16,6 +16,13 @@
 #define RTSUP_MAX_COMMS		8	/* --comm names matched in the kernel */
 #define RTSUP_MAX_SYSCALLS	1024	/* size of the syscall class table */
 #define RTSUP_DEFAULT_THREADS	4096	/* default capacity of the thread map */
+/*
+ * "tidmask": one bit per thread id (PID_MAX_LIMIT is 2^22) that may have an
+ * entry in the thread map; set before the entry is added, never cleared.
+ */
+#define RTSUP_TIDMASK_WORDS	((1U << 22) / 64)
+#define RTSUP_TIDMASK_WORD(tid)	(((tid) >> 6) & (RTSUP_TIDMASK_WORDS - 1))
+#define RTSUP_TIDMASK_BIT(tid)	(1ULL << ((tid) & 63))
 
 /* Metrics measured once per cycle. */
 enum rtsup_metric {

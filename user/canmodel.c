@@ -195,7 +195,8 @@ static void check_iface(struct can_iface *f, const struct can_config *cc, double
 		bits -= f->prev.bits[0] + f->prev.bits[1];
 		err -= f->prev.err_frames;
 	}
-	busoff = f->cur.err_class[6] - (f->have_prev ? f->prev.err_class[6] : 0);
+	/* bus-off, like error-passive, is the state the last error frame reported */
+	busoff = f->cur.err_frames && (f->cur.err_id & RTSUP_CAN_ERR_BUSOFF);
 	f->load = f->bitrate && interval_s > 0 ? bits / (interval_s * f->bitrate) : -1;
 	status_reset(&f->st);
 	if (f->load >= 0 && cc->busload_error && f->load > cc->busload_error)
@@ -291,6 +292,7 @@ static void nodes_prepare(struct can_model *m, const struct config *cfg)
 		v->frames = v->frames_win = v->last = 0;
 		v->period = cfg->can.nodes[i].period_ns;
 		memset(&v->gap, 0, sizeof(v->gap));
+		memset(&v->gap_life, 0, sizeof(v->gap_life));
 	}
 }
 
@@ -371,6 +373,8 @@ void can_model_judge(struct can_model *m, const struct config *cfg, __u64 now,
 			if (!v->period)
 				v->period = e->learned;
 			merge_gap(&v->gap, &gap);
+			metric_view_life(&e->cur.gap, &gap);
+			merge_gap(&v->gap_life, &gap);
 			continue;
 		}
 		/* an identifier no node names: judged on its own learned period */

@@ -49,6 +49,7 @@ struct can_node_view {
 	__u64 last;			/* last frame of any of its identifiers, 0 = never */
 	__u64 period;			/* configured, or learned */
 	struct metric_view gap;		/* of the last interval, over its identifiers */
+	struct metric_view gap_life;	/* since it was first seen */
 	struct status st;
 	enum level worst;
 };

@@ -57,6 +57,7 @@ enum {
 	OPT_CAN,
 	OPT_BITRATE,
 	OPT_CAN_MAX_IDS,
+	OPT_FLOOR,
 };
 
 static const struct argp_option opts[] = {
@@ -90,6 +91,8 @@ static const struct argp_option opts[] = {
 	  "Supervise a CAN interface (repeatable); without IFACE every CAN interface", 0 },
 	{ "bitrate", OPT_BITRATE, "BPS", 0, "CAN bitrate for the bus load when the interface does not tell (vcan)", 0 },
 	{ "can-max-ids", OPT_CAN_MAX_IDS, "N", 0, "Capacity of the CAN identifier map (default 4096)", 0 },
+	/* make bench: the same hooks with empty programs, the floor of any BPF tracer */
+	{ "floor", OPT_FLOOR, NULL, OPTION_HIDDEN, "Attach empty programs instead (benchmark)", 0 },
 	{},
 };
 
@@ -294,6 +297,9 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 		if (parse_long(arg, 16, 1 << 20, &v))
 			return bad(st, "--can-max-ids", arg, "want a number from 16 to 1048576");
 		o->can_max_ids = v;
+		break;
+	case OPT_FLOOR:
+		o->floor = true;
 		break;
 	case ARGP_KEY_ARG:
 		if (o->replay_path && !*o->replay_path) {

@@ -90,6 +90,9 @@ static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, bool 
 	strncpy(t->comm, comm, RTSUP_COMM_LEN - 1);
 	if (process)
 		bpf_map_update_elem(bpf_map__fd(c->skel->maps.tgids), &k, &one, BPF_ANY);
+	/* the hooks look a thread up only when its bit is set (rtsup.h) */
+	__atomic_fetch_or(&c->skel->bss->tidmask[RTSUP_TIDMASK_WORD(key)],
+			  RTSUP_TIDMASK_BIT(key), __ATOMIC_SEQ_CST);
 	/* the kernel may have added it since attach: keep its entry */
 	if (bpf_map_update_elem(bpf_map__fd(c->skel->maps.threads), &key, t, BPF_NOEXIST) &&
 	    errno != EEXIST) {

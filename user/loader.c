@@ -17,6 +17,7 @@
 #include "loader.h"
 #include "rtsup.h"
 #include "rtsup.skel.h"
+#include "rtsup_empty.skel.h"
 
 #ifndef CAP_PERFMON
 #define CAP_PERFMON 38
@@ -61,11 +62,11 @@ static bool probe_tp_btf(void)
 }
 
 /* select_programs - keep one of the two program sets; CAN only with --can */
-static void select_programs(struct rtsup_bpf *s, bool btf, bool can)
+static void select_programs(struct bpf_object *obj, bool btf, bool can)
 {
 	struct bpf_program *p;
 
-	bpf_object__for_each_program(p, s->obj) {
+	bpf_object__for_each_program(p, obj) {
 		const char *sec = bpf_program__section_name(p);
 		bool is_btf = !strncmp(sec, "tp_btf/", 7);
 		bool is_can = !strncmp(bpf_program__name(p), "can_", 4);
@@ -93,9 +94,30 @@ static int fill_sysclass(struct rtsup_bpf *s, const struct options *o)
 	return 0;
 }
 
+/*
+ * floor_start - --floor (the benchmark's floor): the same program set with
+ * empty bodies (RTSUP_EMPTY) instead of ours; our maps stay for the collector
+ */
+static int floor_start(struct loader *l, const struct options *o)
+{
+	struct rtsup_empty_bpf *e = rtsup_empty_bpf__open();
+	struct bpf_map *m;
+
+	if (!e)
+		return -errno;
+	l->floor = e;
+	select_programs(e->obj, l->tp_btf, o->can);
+	/* its maps are never used: keep them small */
+	bpf_object__for_each_map(m, e->obj)
+		if (bpf_map__type(m) != BPF_MAP_TYPE_RINGBUF)
+			bpf_map__set_max_entries(m, 1);
+	return rtsup_empty_bpf__load(e) ?: rtsup_empty_bpf__attach(e);
+}
+
 int loader_start(struct loader *l, const struct options *o)
 {
 	struct rtsup_bpf *s;
+	struct bpf_program *p;
 	int err, i;
 
 	memset(l, 0, sizeof(*l));
@@ -115,7 +137,10 @@ int loader_start(struct loader *l, const struct options *o)
 		return -1;
 	}
 	l->skel = s;
-	select_programs(s, l->tp_btf, o->can);
+	select_programs(s->obj, l->tp_btf, o->can);
+	if (o->floor)	/* none of ours: floor_start attaches the empty ones */
+		bpf_object__for_each_program(p, s->obj)
+			bpf_program__set_autoload(p, false);
 	s->rodata->cfg_ewma_w = o->ewma_w;
 	s->rodata->cfg_period = o->period_ns;
 	s->rodata->cfg_rt = o->targets.rt;
@@ -157,14 +182,15 @@ int loader_start(struct loader *l, const struct options *o)
 		}
 	}
 	err = rtsup_bpf__attach(s);
+	if (!err && o->floor)
+		err = floor_start(l, o);
 	if (err) {
 		fprintf(stderr, "rtsup-trace: attaching the BPF programs failed: %s\n",
 			strerror(-err));
 		goto fail;
 	}
-	/* the overhead check reads run_time_ns; without it, it is skipped */
-	if (!o->no_overhead)
-		l->stats_fd = bpf_enable_stats(BPF_STATS_RUN_TIME);
+	/* BPF statistics cost two clock reads per program run machine-wide:
+	 * the main loop switches them on only for its sampling windows */
 	return 0;
 fail:
 	loader_stop(l);
@@ -178,9 +204,8 @@ long long loader_run_time(const struct loader *l)
 	__u32 len;
 	long long sum = 0;
 
-	if (l->stats_fd < 0)
-		return -1;
-	bpf_object__for_each_program(p, l->skel->obj) {
+	/* with --floor, the empty programs are the ones that run */
+	bpf_object__for_each_program(p, l->floor ? l->floor->obj : l->skel->obj) {
 		int fd = bpf_program__fd(p);
 
 		if (fd < 0)
@@ -194,11 +219,24 @@ long long loader_run_time(const struct loader *l)
 	return sum;
 }
 
+int loader_stats(struct loader *l, bool on)
+{
+	if (on && l->stats_fd < 0)
+		l->stats_fd = bpf_enable_stats(BPF_STATS_RUN_TIME);
+	else if (!on && l->stats_fd >= 0) {
+		close(l->stats_fd);
+		l->stats_fd = -1;
+	}
+	return on && l->stats_fd < 0 ? -1 : 0;
+}
+
 void loader_stop(struct loader *l)
 {
 	if (l->stats_fd >= 0)
 		close(l->stats_fd);
 	l->stats_fd = -1;
+	rtsup_empty_bpf__destroy(l->floor);
+	l->floor = NULL;
 	rtsup_bpf__destroy(l->skel);
 	l->skel = NULL;
 	if (l->cgroup_fd >= 0)

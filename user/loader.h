@@ -7,9 +7,11 @@
 #include "options.h"
 
 struct rtsup_bpf;
+struct rtsup_empty_bpf;
 
 struct loader {
 	struct rtsup_bpf *skel;
+	struct rtsup_empty_bpf *floor;	/* --floor: the empty programs attached instead */
 	bool tp_btf;		/* which program set is attached */
 	int cgroup_fd;
 	int stats_fd;		/* holds BPF run-time statistics on, -1 = off */
@@ -26,5 +28,11 @@ void loader_stop(struct loader *l);
  * BPF statistics (switched on while we run); -1 when they are unavailable.
  */
 long long loader_run_time(const struct loader *l);
+/*
+ * loader_stats - switch the kernel's BPF run-time statistics on or off
+ * (they count while any holder keeps them on); -1 when they cannot be
+ * switched on (no CAP_SYS_ADMIN).
+ */
+int loader_stats(struct loader *l, bool on);
 
 #endif

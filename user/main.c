@@ -130,16 +130,45 @@ static pid_t spawn_cmd(char **cmd, int *go_fd)
 }
 
 /* self_in - what the supervisor knows about itself this interval */
-static void self_in(struct self_in *in, const struct loader *l, const struct collector *c,
-		    const struct supervisor *s, long long *last_rt, __u64 *last_drops,
-		    double elapsed)
-{
-	long long rt = loader_run_time(l);
+/*
+ * The overhead check samples: BPF statistics are on for one interval in
+ * OVERHEAD_EVERY (the first one included), and the last measure holds in
+ * between. Always on, they cost every BPF program on the machine two clock
+ * reads per run (docs/performance.md).
+ */
+#define OVERHEAD_EVERY 30
 
+struct overhead {
+	long long last_rt;	/* run time at the start of the window, -1 = off */
+	double pct;		/* the last measure, -1 = none yet */
+	unsigned int n;		/* intervals so far */
+};
+
+/* overhead_interval - close a sampling window, maybe open the next one */
+static double overhead_interval(struct overhead *ov, struct loader *l, const struct options *o,
+				double elapsed)
+{
+	long long rt;
+
+	if (o->no_overhead)
+		return -1;
+	if (ov->last_rt >= 0) {
+		rt = loader_run_time(l);
+		if (rt >= 0 && elapsed > 0)
+			ov->pct = (rt - ov->last_rt) / (elapsed * 1e9) * 100;
+		loader_stats(l, false);
+		ov->last_rt = -1;
+	}
+	if (ov->n++ % OVERHEAD_EVERY == 0 && !loader_stats(l, true))
+		ov->last_rt = loader_run_time(l);
+	return ov->pct;
+}
+
+static void self_in(struct self_in *in, const struct collector *c, const struct supervisor *s,
+		    double overhead_pct, __u64 *last_drops)
+{
 	in->th = &s->cfg.defaults.th;
-	in->overhead_pct = rt >= 0 && *last_rt >= 0 && elapsed > 0 ?
-			   (rt - *last_rt) / (elapsed * 1e9) * 100 : -1;
-	*last_rt = rt;
+	in->overhead_pct = overhead_pct;
 	in->lost_events = c->counters[RTSUP_C_RB_DROPS] + c->counters[RTSUP_C_CYC_DROPS] -
 			  *last_drops;
 	*last_drops = c->counters[RTSUP_C_RB_DROPS] + c->counters[RTSUP_C_CYC_DROPS];
@@ -184,7 +213,7 @@ static int run_live(struct options *o, struct supervisor *s)
 	struct self_in self;
 	struct can_model cm;
 	__u64 start, next, last, now, end = 0, last_drops = 0;
-	long long last_rt = -1;
+	struct overhead ov = { .last_rt = -1, .pct = -1 };
 	pid_t child = -1;
 	int go_fd = -1, status = 0, err = 1;
 	enum level worst = LEVEL_OK;
@@ -226,7 +255,7 @@ static int run_live(struct options *o, struct supervisor *s)
 	if (robot_start(&rb, &c, s))
 		goto out;
 	start = last = mono_now();
-	last_rt = loader_run_time(&l);
+	overhead_interval(&ov, &l, o, 0);	/* the first window: the first interval */
 	next = start + (__u64)(o->interval * 1e9);
 	if (o->duration)
 		end = start + (__u64)(o->duration * 1e9);
@@ -254,7 +283,8 @@ static int run_live(struct options *o, struct supervisor *s)
 		collector_sample(&c);
 		s->real_off = c.real_off;
 		sample_can(o, s, &l, &c);
-		self_in(&self, &l, &c, s, &last_rt, &last_drops, (now - last) / 1e9);
+		self_in(&self, &c, s, overhead_interval(&ov, &l, o, (now - last) / 1e9),
+			&last_drops);
 		supervise_interval(s, &c.model, c.bank, &self, now);
 		supervise_can(s, now, (now - last) / 1e9);
 		output_interval(&c, s, (now - start) / 1e9, (now - last) / 1e9);
@@ -281,7 +311,7 @@ static int run_live(struct options *o, struct supervisor *s)
 	now = mono_now();
 	collector_sample(&c);
 	sample_can(o, s, &l, &c);
-	self_in(&self, &l, &c, s, &last_rt, &last_drops, (now - last) / 1e9);
+	self_in(&self, &c, s, overhead_interval(&ov, &l, o, (now - last) / 1e9), &last_drops);
 	supervise_interval(s, &c.model, c.bank, &self, now);
 	supervise_can(s, now, (now - last) / 1e9);
 	/* the last, partial interval: the intervals add up to the summary */

@@ -44,6 +44,7 @@ struct options {
 	__u64 can_bitrate;	/* --bitrate: overrides what the interface says */
 	__u32 can_max_ids;	/* --can-max-ids: capacity of the identifier map */
 	bool canopen;		/* from the configuration: CANopen matching in the kernel */
+	bool floor;		/* --floor (hidden): empty programs on the same hooks, for make bench */
 };
 
 /* options_parse - parse argv; prints a one-line error and returns -1 on error */

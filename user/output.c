@@ -182,14 +182,15 @@ static json_t *json_common(const struct collector *c, const struct supervisor *s
 	char when[40];
 
 	fmt_time(c, mono_now(), when, sizeof(when));
-	return json_pack("{s:s,s:s,s:f,s:I,s:I,s:I,s:I,s:{s:o,s:s}}", "type", type, "time", when,
+	return json_pack("{s:s,s:s,s:f,s:I,s:I,s:I,s:I,s:{s:o,s:s,s:o}}", "type", type, "time", when,
 			 "elapsed_s", elapsed,
 			 "lost_events", (json_int_t)c->counters[RTSUP_C_RB_DROPS],
 			 "lost_cycle_records", (json_int_t)c->counters[RTSUP_C_CYC_DROPS],
 			 "untracked_threads", (json_int_t)c->counters[RTSUP_C_MAP_FULL],
 			 "untracked_syscall_counts", (json_int_t)c->counters[RTSUP_C_SYS_FULL],
 			 "supervisor", "status", json_status(&sv->self), "worst_level",
-			 level_name(sv->self_worst));
+			 level_name(sv->self_worst), "bpf_overhead_pct",
+			 sv->overhead_pct >= 0 ? json_real(sv->overhead_pct) : json_null());
 }
 
 /* json_print - one object, one line, flushed */
@@ -370,7 +371,11 @@ static void table_interval(const struct collector *c, const struct supervisor *s
 		 "rtsup-trace  %.0f s  interval %.2f s  threads %d  lost events %llu%s",
 		 elapsed, interval, live, (unsigned long long)c->counters[RTSUP_C_RB_DROPS],
 		 c->counters[RTSUP_C_MAP_FULL] ? "  (thread map full!)" : "");
-	table_header(title);
+	/* a CAN-only run has no thread table */
+	if (c->model.n || !sv->can)
+		table_header(title);
+	else
+		printf("%s\n", title);
 	for (i = 0; i < c->model.n; i++) {
 		const struct thread_model *tm = &c->model.t[i];
 
@@ -410,7 +415,10 @@ static void table_summary(const struct collector *c, const struct supervisor *sv
 		 elapsed, c->model.n, (unsigned long long)c->events_total,
 		 (unsigned long long)c->counters[RTSUP_C_RB_DROPS],
 		 (unsigned long long)c->counters[RTSUP_C_MAP_FULL]);
-	table_header(title);
+	if (c->model.n || !sv->can)
+		table_header(title);
+	else
+		printf("%s\n", title);
 	for (i = 0; i < c->model.n; i++) {
 		span_life(&c->model.t[i].cur, &s);
 		table_row(&c->model.t[i], &s, c->model.t[i].worst, use_color(c->o));

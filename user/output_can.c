@@ -232,7 +232,7 @@ json_t *can_json(const struct can_model *m, const struct config *cfg, __u64 now,
 			"{s:s,s:s,s:I,s:I,s:o,s:o,s:o}", "name", cfg->can.nodes[i].name,
 			"group", cfg->can.nodes[i].group, "frames",
 			(json_int_t)(total ? n->frames : n->frames_win), "period_ns",
-			(json_int_t)n->period, "gap_ns", json_gap(&n->gap),
+			(json_int_t)n->period, "gap_ns", json_gap(total ? &n->gap_life : &n->gap),
 			"last_ago_ms", n->last ? json_real((now - n->last) / 1e6) : json_null(),
 			"status", json_st(&n->st, n->worst)));
 	}

@@ -51,6 +51,42 @@ bool status_same(const struct status *a, const struct status *b)
 	return true;
 }
 
+/* same_but_numbers - equal texts once every run of digits and dots is one mark */
+static bool same_but_numbers(const char *a, const char *b)
+{
+	for (;;) {
+		bool na = (*a >= '0' && *a <= '9'), nb = (*b >= '0' && *b <= '9');
+
+		if (na != nb)
+			return false;
+		if (na) {
+			while ((*a >= '0' && *a <= '9') || *a == '.')
+				a++;
+			while ((*b >= '0' && *b <= '9') || *b == '.')
+				b++;
+			continue;
+		}
+		if (*a != *b)
+			return false;
+		if (!*a)
+			return true;
+		a++;
+		b++;
+	}
+}
+
+bool status_same_kind(const struct status *a, const struct status *b)
+{
+	int i;
+
+	if (a->level != b->level || a->nmsg != b->nmsg)
+		return false;
+	for (i = 0; i < a->nmsg; i++)
+		if (!same_but_numbers(a->msg[i], b->msg[i]))
+			return false;
+	return true;
+}
+
 const char *level_name(enum level l)
 {
 	switch (l) {

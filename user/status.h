@@ -36,6 +36,11 @@ void status_add(struct status *s, enum level l, const char *fmt, ...)
 void status_join(const struct status *s, char *buf, size_t len);
 /* status_same - same level and same messages? */
 bool status_same(const struct status *a, const struct status *b);
+/*
+ * status_same_kind - same level and the same messages but for their numbers:
+ * "no frame for 30 ms" and "no frame for 40 ms" are one ongoing condition
+ */
+bool status_same_kind(const struct status *a, const struct status *b);
 /* level_name - "OK", "WARN", "ERROR", "STALE" */
 const char *level_name(enum level l);
 /* level_fails - does this level fail a --check run at --fail-on 'min'? */

@@ -93,8 +93,11 @@ static void judge(struct supervisor *s, const char *comp, const struct status *o
 {
 	if (st->level != old->level)
 		log_change(s, comp, old->level, st->level, st, now);
-	/* the same complaint interval after interval is one violation */
-	if (st->level >= LEVEL_WARN && !status_same(st, old))
+	/*
+	 * the same complaint interval after interval is one violation, also when
+	 * its numbers grow ("no frame for 30 ms", then "for 40 ms")
+	 */
+	if (st->level >= LEVEL_WARN && !status_same_kind(st, old))
 		add_violation(s, comp, st, now);
 	if (st->level > *worst)
 		*worst = st->level;
@@ -195,6 +198,7 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 		component_name(tm, comp, sizeof(comp));
 		judge(s, comp, &old, &st, &tm->worst, now);
 	}
+	s->overhead_pct = self->overhead_pct;
 	old = s->self;
 	check_self(self, &s->self);
 	judge(s, "rtsup-trace", &old, &s->self, &s->self_worst, now);

@@ -37,6 +37,7 @@ struct supervisor {
 	__s64 real_off;			/* CLOCK_REALTIME - CLOCK_MONOTONIC, for messages */
 	struct can_model *can;		/* the CAN buses, NULL without --can */
 	__u64 now;			/* time of the verdicts being made */
+	double overhead_pct;		/* last sampled BPF overhead, % of a CPU; <0 unknown */
 	/* where level changes go; stderr by default, the journal under systemd */
 	void (*log)(const char *component, enum level from, enum level to, const char *line);
 };

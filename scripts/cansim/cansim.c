@@ -85,7 +85,8 @@ struct node {
 	uint64_t bytes, send_errors;
 	int last_errno;
 	int64_t first_ns, last_ns;
-	json_t *emcy_log;
+	struct at_arg *emcy_log;	/* sent EMCYs (cycle, code), sized by the plan */
+	int nemcy_log;
 	/* run time, written by the SDO thread */
 	uint64_t sent_sdo, sdo_bytes, sdo_received, sdo_answered, sdo_aborts;
 	uint64_t sdo_ignored, sdo_send_errors;
@@ -599,10 +600,9 @@ static void send_emcy(struct node *n, long code)
 	uint64_t before = n->sent_emcy;
 
 	node_send(n, CO_EMCY + n->co_id, d, 8, &n->sent_emcy);
-	if (n->sent_emcy != before)
-		json_array_append_new(n->emcy_log, json_pack("{s:I, s:i, s:i}",
-			"after_cycle", (json_int_t)n->cycles, "code", (int)code,
-			"register", d[2]));
+	/* no malloc in a cycle: the log was sized by the plan */
+	if (n->sent_emcy != before && n->nemcy_log < n->nemcys)
+		n->emcy_log[n->nemcy_log++] = (struct at_arg){ n->cycles, code };
 }
 
 /* cycle - one period of a node: its periodic frames, then the faults due */
@@ -642,9 +642,13 @@ static void __attribute__((noinline)) touch_stack(void)
 		buf[i] = 0;
 }
 
-/* thread_init - name, tid, scheduling and signals of a simulator thread */
-static void thread_init(const char *name, pid_t *tid, char *comm, int *policy, int *prio)
+/* thread_init - name, tid, scheduling and signals of a simulator thread;
+ * @sock is written once with a bad size (EINVAL, nothing sent) so that the
+ * first frame of a cycle neither binds the write() PLT slot nor faults */
+static void thread_init(const char *name, int sock, pid_t *tid, char *comm, int *policy,
+			int *prio)
 {
+	struct can_frame fr = { 0 };
 	struct sched_param sp;
 	sigset_t set;
 
@@ -663,6 +667,10 @@ static void thread_init(const char *name, pid_t *tid, char *comm, int *policy, i
 		*prio = sp.sched_priority;
 	}
 	touch_stack();
+	now_ns();	/* warm the vDSO */
+	/* 1 byte: a write of 0 bytes ends in the socket layer, before raw_sendmsg */
+	if (write(sock, &fr, 1) >= 0)
+		die(name, "a 1-byte write was taken as a frame");
 }
 
 /* node_main - one node: a periodic thread, one clock_nanosleep per cycle */
@@ -672,7 +680,9 @@ static void *node_main(void *arg)
 	int64_t period = n->period_ms * 1000000LL, next;
 	struct timespec ts;
 
-	thread_init(n->name, &n->tid, n->comm, &n->policy, &n->prio);
+	thread_init(n->name, n->sock, &n->tid, n->comm, &n->policy, &n->prio);
+	/* twice: every thread is ready, then the main thread has set t0 */
+	pthread_barrier_wait(&start_barrier);
 	pthread_barrier_wait(&start_barrier);
 	next = t0_ns;
 	/* a real node announces itself before its first heartbeat */
@@ -739,7 +749,8 @@ static void *sdo_main(void *arg)
 	int i;
 
 	(void)arg;
-	thread_init("cansim-sdo", &sdo_tid, NULL, NULL, NULL);
+	thread_init("cansim-sdo", sdo_sock, &sdo_tid, NULL, NULL, NULL);
+	pthread_barrier_wait(&start_barrier);
 	pthread_barrier_wait(&start_barrier);
 	while (!__atomic_load_n(&stop_all, __ATOMIC_ACQUIRE)) {
 		mh.msg_control = cbuf;
@@ -899,8 +910,7 @@ static json_t *node_json(const struct node *n, json_t *all)
 	json_t *ids = json_object(), *o, *faults = json_object(), *bursts = json_array();
 	char idt[24];
 	uint64_t frames;
-	int i;
-	int pass;
+	int i, pass;
 
 	/* per node every id it owns, zeros too; @all only what was on the bus */
 	for (pass = 0; pass < 2; pass++) {
@@ -948,11 +958,17 @@ static json_t *node_json(const struct node *n, json_t *all)
 			    json_null());
 	json_object_set_new(o, "faults", faults);
 	if (n->co_id) {
+		json_t *emcy = json_array();
+
 		json_object_set_new(o, "bootup_sent", json_integer(n->sent_bootup));
 		json_object_set_new(o, "heartbeats_sent", json_integer(n->sent_hb));
 		json_object_set_new(o, "pdos_sent", json_integer(n->sent_main + n->sent_burst));
 		json_object_set_new(o, "emcy_sent", json_integer(n->sent_emcy));
-		json_object_set_new(o, "emcy", json_incref(n->emcy_log));
+		for (i = 0; i < n->nemcy_log; i++)
+			json_array_append_new(emcy, json_pack("{s:I, s:i, s:i}", "after_cycle",
+				(json_int_t)n->emcy_log[i].at, "code", (int)n->emcy_log[i].arg,
+				"register", n->emcy_log[i].arg ? 1 : 0));
+		json_object_set_new(o, "emcy", emcy);
 		json_object_set_new(o, "sdo_requests_received", json_integer(n->sdo_received));
 		json_object_set_new(o, "sdo_requests_answered", json_integer(n->sdo_answered));
 		json_object_set_new(o, "sdo_requests_ignored", json_integer(n->sdo_ignored));
@@ -984,6 +1000,8 @@ static void write_summary(FILE *out, const char *ended_by)
 
 		json_object_set_new(o, "sent_ns", e->sent ? json_integer(e->sent_ns) :
 				    json_null());
+		json_object_set_new(o, "sent_after_ms", e->sent ?
+				    json_real((e->sent_ns - t0_ns) / 1e6) : json_null());
 		json_object_set_new(o, "error", e->err ? json_string(strerror(e->err)) :
 				    json_null());
 		nerr += e->sent;
@@ -1034,6 +1052,19 @@ int main(int argc, char **argv)
 	FILE *out = NULL;
 	int i, nthreads = 0, sig = 0;
 
+	/*
+	 * Block SIGINT/SIGTERM first: a background job of a script has them
+	 * ignored, and one sent during the start-up (mlockall is slow) would be
+	 * lost; blocked, it waits for sigtimedwait().  Threads inherit the mask.
+	 */
+	sigemptyset(&set);
+	sigaddset(&set, SIGINT);
+	sigaddset(&set, SIGTERM);
+	waitset = set;
+	sigaddset(&set, SIGUSR1);
+	pthread_sigmask(SIG_BLOCK, &set, NULL);
+	sigaction(SIGUSR1, &sa, NULL);
+
 	argp_err_exit_status = 1;
 	if (argp_parse(&argp, argc, argv, 0, NULL, NULL))
 		return 1;
@@ -1053,22 +1084,15 @@ int main(int argc, char **argv)
 				strerror(errno));
 	}
 
-	/* threads inherit this mask: signals reach the main thread only */
-	sigemptyset(&set);
-	sigaddset(&set, SIGINT);
-	sigaddset(&set, SIGTERM);
-	waitset = set;
-	sigaddset(&set, SIGUSR1);
-	pthread_sigmask(SIG_BLOCK, &set, NULL);
-	sigaction(SIGUSR1, &sa, NULL);
-
 	for (i = 0; i < cfg.nnodes; i++)
 		nthreads += !cfg.nodes[i].never;
 	pthread_barrier_init(&start_barrier, NULL, nthreads + (sdo_sock >= 0) + 1);
 	for (i = 0; i < cfg.nnodes; i++) {
 		struct node *n = &cfg.nodes[i];
 
-		n->emcy_log = json_array();
+		n->emcy_log = calloc(n->nemcys ? n->nemcys : 1, sizeof(*n->emcy_log));
+		if (!n->emcy_log)
+			die(n->name, "out of memory");
 		if (n->never)
 			continue;
 		start_thread(&n->pt, node_main, n);
@@ -1077,6 +1101,7 @@ int main(int argc, char **argv)
 	if (sdo_sock >= 0)
 		start_thread(&sdo_pt, sdo_main, NULL);
 	/* every thread is named and ready: one common start for all nodes */
+	pthread_barrier_wait(&start_barrier);
 	t0_ns = now_ns();
 	clock_gettime(CLOCK_REALTIME, &t0_wall);
 	end_ns = cfg.duration_ms ? t0_ns + cfg.duration_ms * 1000000LL : INT64_MAX;

@@ -96,6 +96,7 @@ static struct config {
 	long threads, period_us, work_us, prio, cycles, start_delay_ms;
 	bool relative;
 	bool hold;
+	const char *wait_file;
 	const char *summary;
 	const char *name;
 	int cpus[MAX_CPUS];
@@ -292,7 +293,7 @@ static void check_faults(void)
 	}
 }
 
-enum { OPT_RELATIVE = 0x100, OPT_NAME, OPT_START_DELAY, OPT_HOLD };
+enum { OPT_RELATIVE = 0x100, OPT_NAME, OPT_START_DELAY, OPT_HOLD, OPT_WAIT_FILE };
 
 const char *argp_program_version = PROG " 0.1";
 static const char doc[] =
@@ -327,6 +328,8 @@ static const struct argp_option opts[] = {
 	{ "relative", OPT_RELATIVE, NULL, 0, "Sleep with relative clock_nanosleep", 0 },
 	{ "name", OPT_NAME, "PREFIX", 0, "Thread name prefix (default \"lg\")", 0 },
 	{ "start-delay", OPT_START_DELAY, "MS", 0, "Sleep MS before starting threads", 0 },
+	{ "wait-file", OPT_WAIT_FILE, "PATH", 0, "Start the threads once PATH exists "
+	  "(a tracer creates it when attached; at most 5 minutes)", 0 },
 	{ "hold", OPT_HOLD, NULL, 0, "After the last cycle, park the threads in one more "
 	  "clock_nanosleep, write the summary and wait for SIGTERM/SIGINT", 0 },
 	{ NULL, 'h', NULL, OPTION_HIDDEN, "Show the full help", 0 },
@@ -366,6 +369,9 @@ static error_t parse_arg(int key, char *arg, struct argp_state *state)
 		break;
 	case OPT_HOLD:
 		cfg.hold = true;
+		break;
+	case OPT_WAIT_FILE:
+		cfg.wait_file = arg;
 		break;
 	case OPT_NAME:
 		if (!*arg || strlen(arg) > 15)
@@ -954,6 +960,11 @@ int main(int argc, char **argv)
 	map_pf_region(pages);
 	if (cfg.start_delay_ms)
 		sleep_us(cfg.start_delay_ms * 1000);
+	/* a slow attach (an emulated guest verifies programs for seconds) */
+	for (i = 0; cfg.wait_file && access(cfg.wait_file, F_OK) && i < 30000; i++)
+		sleep_us(10000);
+	if (cfg.wait_file && access(cfg.wait_file, F_OK))
+		die("--wait-file", "%s did not appear in 5 minutes", cfg.wait_file);
 
 	for (i = 0; i < cfg.threads; i++)
 		naux += workers[i].has_hog;

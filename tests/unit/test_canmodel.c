@@ -811,8 +811,14 @@ static void test_iface_bus_off(void **state)
 	judge(f, 2 * SEC, 1.0);
 	expect(f, "can0", LEVEL_ERROR, "bus-off");
 	assert_true(has_msg(verdict(f, "can0"), "1 error frames") >= 0);
-	/* only a new bus-off counts */
+	/* the controller stays bus-off until an error frame says otherwise */
 	judge(f, 3 * SEC, 1.0);
+	expect(f, "can0", LEVEL_ERROR, "bus-off");
+	/* CAN_ERR_RESTARTED (0x100): back on the bus */
+	err_frames(f, 1, 0x100, 0, 1, 3100 * MS);
+	judge(f, 3200 * MS, 1.0);
+	expect(f, "can0", LEVEL_WARN, "1 error frames");
+	judge(f, 3300 * MS, 1.0);
 	expect(f, "can0", LEVEL_OK, NULL);
 	/* bus-off needs no error frame threshold */
 	f->cfg.can.err_warn = 0;

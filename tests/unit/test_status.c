@@ -200,6 +200,37 @@ static void test_status_long_message_cut(void **state)
 	assert_string_equal(s.msg[1], "next");
 }
 
+/* an ongoing condition whose numbers grow is the same kind of status */
+static void test_status_same_kind(void **state)
+{
+	struct status a, b;
+
+	(void)state;
+	status_reset(&a);
+	status_reset(&b);
+	status_add(&a, LEVEL_ERROR, "not responding: no frame for 30.0 ms (3 periods)");
+	status_add(&b, LEVEL_ERROR, "not responding: no frame for 1240.5 ms (124 periods)");
+	assert_true(status_same_kind(&a, &b));
+	assert_false(status_same(&a, &b));
+	/* other words, another level, or one more message: not the same kind */
+	status_reset(&b);
+	status_add(&b, LEVEL_ERROR, "no heartbeat for 30 ms");
+	assert_false(status_same_kind(&a, &b));
+	status_reset(&b);
+	status_add(&b, LEVEL_WARN, "not responding: no frame for 30.0 ms (3 periods)");
+	assert_false(status_same_kind(&a, &b));
+	status_reset(&b);
+	status_add(&b, LEVEL_ERROR, "not responding: no frame for 31.0 ms (3 periods)");
+	status_add(&b, LEVEL_WARN, "gap jitter 5.0 us > 1.0 us");
+	assert_false(status_same_kind(&a, &b));
+	/* a number where the other has text is a difference */
+	status_reset(&a);
+	status_reset(&b);
+	status_add(&a, LEVEL_WARN, "NMT state 5");
+	status_add(&b, LEVEL_WARN, "NMT state stopped");
+	assert_false(status_same_kind(&a, &b));
+}
+
 static void test_status_same(void **state)
 {
 	struct status a, b;
@@ -282,6 +313,7 @@ int main(void)
 		cmocka_unit_test(test_status_join_truncates),
 		cmocka_unit_test(test_status_long_message_cut),
 		cmocka_unit_test(test_status_same),
+		cmocka_unit_test(test_status_same_kind),
 		cmocka_unit_test(test_status_level_fails),
 		cmocka_unit_test(test_status_level_name),
 	};

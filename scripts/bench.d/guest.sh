@@ -1,0 +1,88 @@
+#!/bin/sh
+# guest.sh - the part of make bench that runs inside the PREEMPT_RT guest
+# (scripts/vm-test; this machine's kernel has no CAN): a cangen -g 0 flood
+# and cyclictest, each without rtsup-trace, with it as shipped and with
+# --no-overhead (no BPF statistics), interleaved, REPS times.
+# One JSON object per measurement on stdout; rtsup-trace's own output goes
+# to OUT (a directory under build/, which the guest shares with the host).
+#
+#   sh scripts/bench.d/guest.sh OUT REPS FRAMES LOOPS
+set -u
+OUT=$1 REPS=$2 FRAMES=$3 LOOPS=$4
+T=build/rtsup-trace
+TP=
+
+now() { date +%s%N; }
+
+# start_trace TAG ARGS... - rtsup-trace in the background, until it is attached
+start_trace() {
+	tag=$1
+	shift
+	$T -j "$@" > "$OUT/trace-$tag.json" 2> "$OUT/trace-$tag.err" &
+	TP=$!
+	i=0
+	while ! grep -q "tracing with" "$OUT/trace-$tag.err" 2>/dev/null; do
+		i=$((i + 1))
+		if [ $i -gt 600 ] || ! kill -0 $TP 2>/dev/null; then
+			echo "{\"error\": \"rtsup-trace did not start ($tag)\"}"
+			return 1
+		fi
+		sleep 0.1
+	done
+}
+
+stop_trace() {
+	kill -INT $TP
+	wait $TP
+}
+
+# variants in the order of round r: a different one goes first each round
+# (rtsup-trace as shipped, and without its BPF statistics: --no-overhead)
+order() {
+	case $(($1 % 3)) in
+	1) echo "base rtsup nostats" ;;
+	2) echo "rtsup nostats base" ;;
+	*) echo "nostats base rtsup" ;;
+	esac
+}
+
+# trace_args VARIANT - rtsup-trace's options for a variant
+trace_args() {
+	[ "$1" = nostats ] && echo "--no-overhead"
+}
+
+ip link add dev vcan0 type vcan && ip link set up vcan0 || exit 1
+echo "{\"part\": \"info\", \"kernel\": \"$(uname -r)\", \"uname_v\": \"$(uname -v)\", \"cpus\": $(nproc)}"
+# warm-up: the binaries come over 9p and TCG translates their code once
+cangen vcan0 -I 321 -L 8 -g 0 -n 5000
+cyclictest -m -p 80 -t 2 -d 0 -i 1000 -l 200 -q > /dev/null
+
+for r in $(seq "$REPS"); do
+	for v in $(order "$r"); do
+		tag=can-$v-$r
+		if [ "$v" != base ]; then
+			# shellcheck disable=SC2046
+			start_trace "$tag" --can vcan0 -i 1s $(trace_args "$v") || continue
+		fi
+		a=$(now)
+		cangen vcan0 -I 321 -L 8 -g 0 -n "$FRAMES"
+		rc=$?
+		b=$(now)
+		[ "$v" != base ] && stop_trace
+		echo "{\"part\": \"can\", \"variant\": \"$v\", \"rep\": $r, \"frames\": $FRAMES, \"ns\": $((b - a)), \"rc\": $rc, \"tag\": \"$tag\"}"
+	done
+done
+
+for r in $(seq "$REPS"); do
+	for v in $(order "$r"); do
+		tag=cyc-$v-$r
+		if [ "$v" != base ]; then
+			# shellcheck disable=SC2046
+			start_trace "$tag" --comm cyclictest -i 1s $(trace_args "$v") || continue
+		fi
+		cyclictest -m -p 80 -t 2 -d 0 -i 1000 -l "$LOOPS" -q > "$OUT/$tag.txt" 2>&1
+		rc=$?
+		[ "$v" != base ] && stop_trace
+		echo "{\"part\": \"cyclictest\", \"variant\": \"$v\", \"rep\": $r, \"loops\": $LOOPS, \"rc\": $rc, \"tag\": \"$tag\"}"
+	done
+done

@@ -1,0 +1,30 @@
+# SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+"""The thread integration tests again, inside Debian's PREEMPT_RT kernels
+(scripts/vm-test): the same BPF object, built against this host's BTF,
+loads and measures there too. Emulated time is slow and noisy, so the
+tests run with RTSUP_TEST_EMULATED=1: counts stay exact, timing checks
+are relaxed."""
+import subprocess
+
+import pytest
+
+from conftest import IN_CI, ROOT
+
+VM = ROOT / "scripts" / "vm-test"
+
+
+@pytest.mark.parametrize("kernel", ["rt-6.1", "rt-6.12"])
+def test_thread_tests_pass_in_guest(kernel):
+    r = subprocess.run([str(VM), "kernels"], capture_output=True, text=True)
+    if not any(line.split()[:1] == [kernel] and " boot " in line
+               for line in r.stdout.splitlines()):
+        if IN_CI:
+            pytest.fail("CI=true and the %s VM is not set up" % kernel)
+        pytest.skip("%s VM not set up: scripts/vm-test setup" % kernel)
+    r = subprocess.run([str(VM), "run", "--kernel", kernel, "--timeout", "900", "--",
+                        "env", "CI=true", "RTSUP_TEST_EMULATED=1", "python3", "-m", "pytest",
+                        "-q", "-p", "no:cacheprovider", "tests/integration/test_trace.py"],
+                       capture_output=True, text=True, timeout=1100, cwd=ROOT)
+    tail = "\n".join(r.stdout.splitlines()[-30:])
+    assert r.returncode == 0, tail + r.stderr[-2000:]
+    assert " passed" in tail and "failed" not in tail
