@@ -6,29 +6,12 @@
 #include "model.h"
 #include "hist.h"
 
-__u64 hist_percentile(const __u32 *cur, const __u32 *prev, double q, __u64 min,
-		      __u64 max)
+/* bucket_value - the value a bucket stands for: its middle, within [min, max] */
+static __u64 bucket_value(int b, __u64 min, __u64 max)
 {
-	__u64 total = 0, rank, acc = 0, mid;
-	int b;
+	/* at most half a bucket (1/16) from the true value */
+	__u64 mid = hist_bucket_low(b) + (hist_bucket_high(b) - hist_bucket_low(b)) / 2;
 
-	for (b = 0; b < HIST_BUCKETS; b++)
-		total += cur[b] - (prev ? prev[b] : 0);
-	if (!total)
-		return 0;
-	/* nearest rank, as a sorted array would give it */
-	rank = (__u64)ceil(q * (double)total);
-	if (rank < 1)
-		rank = 1;
-	for (b = 0; b < HIST_BUCKETS; b++) {
-		acc += cur[b] - (prev ? prev[b] : 0);
-		if (acc >= rank)
-			break;
-	}
-	if (b >= HIST_BUCKETS)
-		b = HIST_BUCKETS - 1;
-	/* bucket middle: at most half a bucket (1/16) from the true value */
-	mid = hist_bucket_low(b) + (hist_bucket_high(b) - hist_bucket_low(b)) / 2;
 	if (b == HIST_BUCKETS - 1)
 		mid = max;
 	if (mid < min)
@@ -36,6 +19,59 @@ __u64 hist_percentile(const __u32 *cur, const __u32 *prev, double q, __u64 min,
 	if (mid > max)
 		mid = max;
 	return mid;
+}
+
+/*
+ * hist_quantiles - n ascending quantiles of cur - prev in one pass over the
+ * buckets; 'total' is their sum (the metric's count): the collector's hot
+ * loop, so no second pass to find it
+ */
+static void hist_quantiles(const __u32 *cur, const __u32 *prev, __u64 total, const double *q,
+			   __u64 *out, int n, __u64 min, __u64 max)
+{
+	__u64 acc = 0, rank;
+	int b = 0, i;
+
+	for (i = 0; i < n; i++) {
+		/* nearest rank, as a sorted array would give it */
+		rank = (__u64)ceil(q[i] * (double)total);
+		if (rank < 1)
+			rank = 1;
+		for (; b < HIST_BUCKETS; b++) {
+			__u64 c = cur[b] - (prev ? prev[b] : 0);
+
+			if (acc + c >= rank)
+				break;
+			acc += c;
+		}
+		out[i] = bucket_value(b < HIST_BUCKETS ? b : HIST_BUCKETS - 1, min, max);
+	}
+}
+
+__u64 hist_percentile(const __u32 *cur, const __u32 *prev, double q, __u64 min,
+		      __u64 max)
+{
+	__u64 total = 0, out;
+	int b;
+
+	for (b = 0; b < HIST_BUCKETS; b++)
+		total += cur[b] - (prev ? prev[b] : 0);
+	if (!total)
+		return 0;
+	hist_quantiles(cur, prev, total, &q, &out, 1, min, max);
+	return out;
+}
+
+/* view_quantiles - p50, p99 and p99.9 of a view */
+static void view_quantiles(const __u32 *cur, const __u32 *prev, struct metric_view *v)
+{
+	static const double q[3] = { 0.50, 0.99, 0.999 };
+	__u64 out[3];
+
+	hist_quantiles(cur, prev, v->count, q, out, 3, v->min, v->max);
+	v->p50 = out[0];
+	v->p99 = out[1];
+	v->p999 = out[2];
 }
 
 void metric_view_life(const struct rtsup_metric_stats *s, struct metric_view *v)
@@ -48,9 +84,7 @@ void metric_view_life(const struct rtsup_metric_stats *s, struct metric_view *v)
 	v->max = s->max;
 	v->mean = (double)s->sum / (double)s->count;
 	v->ewma = (double)s->ewma / (1 << RTSUP_EWMA_SHIFT);
-	v->p50 = hist_percentile(s->hist, NULL, 0.50, s->min, s->max);
-	v->p99 = hist_percentile(s->hist, NULL, 0.99, s->min, s->max);
-	v->p999 = hist_percentile(s->hist, NULL, 0.999, s->min, s->max);
+	view_quantiles(s->hist, NULL, v);
 }
 
 void metric_view_window(const struct rtsup_metric_stats *cur,
@@ -71,9 +105,7 @@ void metric_view_window(const struct rtsup_metric_stats *cur,
 	v->max = mm->max;
 	v->mean = (double)(cur->sum - prev->sum) / (double)v->count;
 	v->ewma = (double)cur->ewma / (1 << RTSUP_EWMA_SHIFT);
-	v->p50 = hist_percentile(cur->hist, prev->hist, 0.50, v->min, v->max);
-	v->p99 = hist_percentile(cur->hist, prev->hist, 0.99, v->min, v->max);
-	v->p999 = hist_percentile(cur->hist, prev->hist, 0.999, v->min, v->max);
+	view_quantiles(cur->hist, prev->hist, v);
 }
 
 /* span_counters - counters of cur minus prev (prev may be NULL) */
