@@ -22,6 +22,9 @@ IN_CI = os.environ.get("CI", "").lower() in ("1", "true", "yes")
 # Inside a qemu TCG guest (tests/integration/test_guest.py) time is slow and
 # noisy: tests keep their count assertions and relax the timing ones.
 EMULATED = os.environ.get("RTSUP_TEST_EMULATED") == "1"
+# The generator's period: 1 ms; 5 ms in a guest, where 1 kHz FIFO threads
+# leave the generator's own SCHED_OTHER helper no emulated CPU to run on.
+PERIOD_US = 5000 if EMULATED else 1000
 
 
 def _bpf_unavailable_reason():
@@ -95,6 +98,8 @@ class Loadgen:
 
     def __init__(self, tmp_path, args, hold=True):
         self.summary_path = tmp_path / "loadgen.json"
+        if "-P" not in args:
+            args = ["-P", str(PERIOD_US)] + args
         cmd = [str(LOADGEN), "-s", str(self.summary_path)] + args
         if hold:
             cmd.append("--hold")
