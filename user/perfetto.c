@@ -20,6 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <jansson.h>
+#include "errline.h"
 #include "jsonstr.h"
 #include "perfetto.h"
 
@@ -43,24 +44,6 @@ static const char *const unsafe_names[RTSUP_U_NR] = {
 	[RTSUP_U_BLOCK] = "block",
 	[RTSUP_U_MIGRATE] = "migration",
 };
-
-/* seterr - format one line into err (newlines become spaces) */
-__attribute__((format(printf, 3, 4)))
-static void seterr(char *err, size_t errlen, const char *fmt, ...)
-{
-	va_list ap;
-	char *p;
-
-	if (!err || !errlen)
-		return;
-	va_start(ap, fmt);
-	vsnprintf(err, errlen, fmt, ap);
-	va_end(ap);
-	for (p = err; *p; p++)
-		if (*p == '\n' || *p == '\r')
-			*p = ' ';
-}
-
 
 /* fmt_us - nanoseconds as exact microseconds with three decimals */
 static int fmt_us(char *buf, size_t len, __u64 ns)

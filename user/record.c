@@ -23,6 +23,7 @@
 #include <byteswap.h>
 #include <jansson.h>
 #include <zlib.h>
+#include "errline.h"
 #include "jsonstr.h"
 #include "record.h"
 
@@ -50,23 +51,6 @@ struct rec_reader {
 	int failed;		/* an error was reported: repeat it */
 	char msg[512];
 };
-
-/* seterr - format one line into err (newlines become spaces) */
-__attribute__((format(printf, 3, 4)))
-static void seterr(char *err, size_t errlen, const char *fmt, ...)
-{
-	va_list ap;
-	char *p;
-
-	if (!err || !errlen)
-		return;
-	va_start(ap, fmt);
-	vsnprintf(err, errlen, fmt, ap);
-	va_end(ap);
-	for (p = err; *p; p++)
-		if (*p == '\n' || *p == '\r')
-			*p = ' ';
-}
 
 /* rec_size - the payload size of a record type, 0 if the type is unknown */
 static size_t rec_size(unsigned int type)
