@@ -6,6 +6,8 @@ OUT      := build
 CLANG    ?= clang
 CC       ?= cc
 BPFTOOL  ?= bpftool
+# the apt-installed interpreter: its pytest and matplotlib come from install-deps
+PYTHON   ?= /usr/bin/python3
 ARCH     := $(shell uname -m | sed 's/x86_64/x86/;s/aarch64/arm64/;s/ppc64le/powerpc/;s/riscv64/riscv/;s/s390x/s390/')
 VMLINUX_BTF ?= /sys/kernel/btf/vmlinux
 PREFIX   ?= /usr/local
@@ -117,7 +119,7 @@ unit: $(UNIT_BINS)
 	$(Q)fail=0; for t in $(UNIT_BINS); do $$t || fail=1; done; exit $$fail
 
 integration: all
-	$(Q)python3 -m pytest -v tests/integration
+	$(Q)$(PYTHON) -m pytest -v tests/integration
 
 # What CI runs: every test, unit and integration.
 test: unit integration

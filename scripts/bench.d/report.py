@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 # SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
 """report.py - docs/performance.md and docs/bench-*.png from the raw results
 of scripts/bench (docs/bench-results.json). Nothing here measures: every

@@ -22,7 +22,7 @@ def test_thread_tests_pass_in_guest(kernel):
             pytest.fail("CI=true and the %s VM is not set up" % kernel)
         pytest.skip("%s VM not set up: scripts/vm-test setup" % kernel)
     r = subprocess.run([str(VM), "run", "--kernel", kernel, "--timeout", "900", "--",
-                        "env", "CI=true", "RTSUP_TEST_EMULATED=1", "python3", "-m", "pytest",
+                        "env", "CI=true", "RTSUP_TEST_EMULATED=1", "/usr/bin/python3", "-m", "pytest",
                         "-q", "-p", "no:cacheprovider", "tests/integration/test_trace.py"],
                        capture_output=True, text=True, timeout=1100, cwd=ROOT)
     tail = "\n".join(r.stdout.splitlines()[-30:])
