@@ -113,6 +113,13 @@ int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct opt
 	c->skel = skel;
 	c->o = o;
 	c->start_ns = mono_now();
+	c->batch_cap = COLLECTOR_BATCH;
+	c->batch_keys = calloc(c->batch_cap, sizeof(*c->batch_keys));
+	c->batch_vals = calloc(c->batch_cap, sizeof(*c->batch_vals));
+	if (!c->batch_keys || !c->batch_vals) {
+		fprintf(stderr, "rtsup-trace: out of memory\n");
+		return -1;
+	}
 	update_clocks(c);
 	c->rb = ring_buffer__new(bpf_map__fd(skel->maps.events), on_event, c, NULL);
 	if (!c->rb || (skel->rodata->cfg_record &&
@@ -200,9 +207,14 @@ static void read_cgroup(struct thread_model *tm)
 	fclose(f);
 }
 
-/* refresh_identity - scheduling attributes of a live thread */
+/*
+ * refresh_identity - scheduling attributes of a live thread: what the
+ * kernel copied at its last switch-in, syscalls only for a thread not yet
+ * seen on a CPU or allowed on CPUs beyond 63
+ */
 static void refresh_identity(struct thread_model *tm)
 {
+	const struct rtsup_thread *t = &tm->cur;
 	struct sched_param sp;
 
 	if (!tm->pcomm[0]) {
@@ -213,69 +225,162 @@ static void refresh_identity(struct thread_model *tm)
 		read_cgroup(tm);
 	}
 
+	if (t->id_at && t->ncpus == (__u32)__builtin_popcountll(t->cpus0)) {
+		tm->policy = t->policy;
+		tm->prio = t->rt_prio;
+		/* formatted again only when the mask changed */
+		if (tm->cpus_key != t->cpus0 || !tm->cpus[0]) {
+			unsigned long bits[64 / (8 * sizeof(long))];
+
+			memcpy(bits, &t->cpus0, sizeof(bits));
+			cpu_list_mask(bits, 64, tm->cpus, sizeof(tm->cpus));
+			tm->cpus_key = t->cpus0;
+		}
+		return;
+	}
 	tm->policy = sched_getscheduler(tm->tid);
 	if (tm->policy < 0)
 		return;
 	tm->policy &= ~SCHED_RESET_ON_FORK;
 	tm->prio = sched_getparam(tm->tid, &sp) ? 0 : sp.sched_priority;
 	cpu_list(tm->tid, tm->cpus, sizeof(tm->cpus));
+	tm->cpus_key = 0;
+}
+
+/* take - one thread's new kernel snapshot into the model */
+static int take(struct collector *c, __u32 tid, const struct rtsup_thread *t)
+{
+	struct thread_model *tm = model_get(&c->model, tid, true);
+
+	if (!tm)
+		return -ENOMEM;
+	if (!tm->cur.first_seen)
+		tm->rule = -1;
+	/* a tid reused by a new thread starts a new model */
+	if (tm->cur.first_seen && tm->cur.first_seen != t->first_seen) {
+		model_remove(&c->model, tid);
+		tm = model_get(&c->model, tid, true);
+		if (!tm)
+			return -ENOMEM;
+	}
+	model_set(tm, t, c->bank);
+	tm->sampled = true;
+	tm->tgid = t->tgid;
+	memcpy(tm->comm, t->comm, RTSUP_COMM_LEN);
+	tm->comm[RTSUP_COMM_LEN - 1] = '\0';
+	comm_sanitize(tm->comm, RTSUP_COMM_LEN);
+	tm->alive = !t->exited;
+	if (tm->alive)
+		refresh_identity(tm);
+	else
+		tm->policy = -1;
+	return 0;
+}
+
+/* read_one_by_one - the thread map without batch operations (kernels < 5.6) */
+static int read_one_by_one(struct collector *c, int fd)
+{
+	__u32 key, next, *prev = NULL;
+
+	while (!bpf_map_get_next_key(fd, prev, &next)) {
+		key = next;
+		prev = &key;
+		c->map_entries++;
+		if (bpf_map_lookup_elem(fd, &key, c->batch_vals))
+			continue;
+		if (take(c, key, c->batch_vals))
+			return -ENOMEM;
+	}
+	return 0;
+}
+
+#ifndef ENOTSUPP
+#define ENOTSUPP 524	/* the kernel's own "operation not supported" */
+#endif
+
+/* grow_batch - twice the entries per read */
+static int grow_batch(struct collector *c)
+{
+	__u32 cap = c->batch_cap * 2;
+	__u32 *k = realloc(c->batch_keys, cap * sizeof(*k));
+	struct rtsup_thread *v;
+
+	if (!k)
+		return -1;
+	c->batch_keys = k;
+	v = realloc(c->batch_vals, cap * sizeof(*v));
+	if (!v)
+		return -1;
+	c->batch_vals = v;
+	c->batch_cap = cap;
+	return 0;
+}
+
+/* read_threads - the whole thread map, batch_cap entries per syscall */
+static int read_threads(struct collector *c)
+{
+	int fd = bpf_map__fd(c->skel->maps.threads), err;
+	__u64 in = 0, out = 0;
+	__u32 n, i;
+	bool first = true;
+
+	c->map_entries = 0;
+	if (c->no_batch)
+		return read_one_by_one(c, fd);
+	do {
+		n = c->batch_cap;
+		err = bpf_map_lookup_batch(fd, first ? NULL : &in, &out, c->batch_keys,
+					   c->batch_vals, &n, NULL);
+		if (err && errno == ENOSPC && !n) {
+			/* one hash bucket holds more than the buffer: grow it, retry */
+			if (grow_batch(c))
+				return -ENOMEM;
+			continue;
+		}
+		if (err && errno != ENOENT) {
+			if (first && (errno == EINVAL || errno == ENOTSUP || errno == ENOTSUPP)) {
+				c->no_batch = true;
+				return read_one_by_one(c, fd);
+			}
+			return -errno;
+		}
+		for (i = 0; i < n; i++) {
+			c->map_entries++;
+			if (take(c, c->batch_keys[i], &c->batch_vals[i]))
+				return -ENOMEM;
+		}
+		in = out;
+		first = false;
+	} while (!err);
+	return 0;
 }
 
 int collector_sample(struct collector *c)
 {
-	int fd = bpf_map__fd(c->skel->maps.threads);
-	__u32 key, next, *prev = NULL;
-	struct rtsup_thread *t = malloc(sizeof(*t));
 	struct thread_model *tm;
-	int i;
+	int i, err;
 
-	if (!t)
-		return -ENOMEM;
 	/* new interval: the kernel writes the other min/max bank from now on */
 	c->bank = c->skel->bss->epoch & 1;
 	c->skel->bss->epoch++;
 	update_clocks(c);
 	collector_poll(c, 0);
 	for (i = 0; i < c->model.n; i++) {
+		c->model.t[i].alive = false;
+		c->model.t[i].sampled = false;
+	}
+	err = read_threads(c);
+	if (err)
+		fprintf(stderr, "rtsup-trace: reading the thread map: %s\n", strerror(-err));
+	/* not in the map any more (reaped): nothing happened this interval */
+	for (i = 0; i < c->model.n; i++) {
 		tm = &c->model.t[i];
-		if (tm->alive) {
-			tm->prev = tm->cur;
-			tm->have_prev = true;
-		}
-		tm->alive = false;
+		if (!tm->sampled)
+			model_idle(tm);
 	}
-	c->map_entries = 0;
-	while (!bpf_map_get_next_key(fd, prev, &next)) {
-		key = next;
-		prev = &key;
-		c->map_entries++;
-		if (bpf_map_lookup_elem(fd, &key, t))
-			continue;
-		tm = model_get(&c->model, key, true);
-		if (!tm)
-			break;
-		if (!tm->cur.first_seen)
-			tm->rule = -1;
-		/* a tid reused by a new thread starts a new model */
-		if (tm->cur.first_seen && tm->cur.first_seen != t->first_seen) {
-			model_remove(&c->model, key);
-			tm = model_get(&c->model, key, true);
-		}
-		tm->cur = *t;
-		tm->tgid = t->tgid;
-		memcpy(tm->comm, t->comm, RTSUP_COMM_LEN);
-		tm->comm[RTSUP_COMM_LEN - 1] = '\0';
-		comm_sanitize(tm->comm, RTSUP_COMM_LEN);
-		tm->alive = !t->exited;
-		if (tm->alive)
-			refresh_identity(tm);
-		else
-			tm->policy = -1;
-	}
-	free(t);
 	read_unsafe_sys(c);
 	read_counters(c);
-	return 0;
+	return err;
 }
 
 /* forget_sys - drop a dead thread's unsafe syscall entries */
@@ -372,4 +477,6 @@ void collector_free(struct collector *c)
 {
 	ring_buffer__free(c->rb);
 	model_free(&c->model);
+	free(c->batch_keys);
+	free(c->batch_vals);
 }

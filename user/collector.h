@@ -16,6 +16,9 @@ struct ring_buffer;
 
 #define COLLECTOR_MAX_EVENTS 256
 
+/* Thread map entries per read at first: 64 entries of ~5 KiB. */
+#define COLLECTOR_BATCH 64
+
 struct collector {
 	struct rtsup_bpf *skel;
 	const struct options *o;
@@ -30,6 +33,11 @@ struct collector {
 	__s64 real_off;			/* CLOCK_REALTIME - CLOCK_MONOTONIC, ns */
 	__u64 start_ns;			/* monotonic start */
 	__u32 map_entries;		/* entries of the thread map at the last sample */
+	/* the thread map is read COLLECTOR_BATCH entries per syscall */
+	__u32 *batch_keys;
+	struct rtsup_thread *batch_vals;
+	__u32 batch_cap;
+	bool no_batch;			/* the kernel has no batch operations */
 	/* sinks that want every cycle and event as it comes (--record, --perfetto) */
 	void (*on_cycle)(void *ctx, const struct rtsup_cycle_rec *r);
 	void (*on_rare)(void *ctx, const struct rtsup_event *e);

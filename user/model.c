@@ -156,6 +156,18 @@ void span_window(const struct rtsup_thread *cur, const struct rtsup_thread *prev
 		metric_view_window(&cur->m[i], prev ? &prev->m[i] : NULL, bank, &s->m[i]);
 }
 
+void model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank)
+{
+	span_window(t, tm->cur.first_seen ? &tm->cur : NULL, bank, &tm->win);
+	tm->cur = *t;
+	span_life(&tm->cur, &tm->life);
+}
+
+void model_idle(struct thread_model *tm)
+{
+	memset(&tm->win, 0, sizeof(tm->win));
+}
+
 /* find - binary search in the tid-sorted array */
 static int find(const struct model *m, __u32 tid, int *pos)
 {
@@ -208,6 +220,7 @@ void model_remove(struct model *m, __u32 tid)
 
 	if (!find(m, tid, &pos))
 		return;
+	free(m->t[pos].snap);
 	memmove(&m->t[pos], &m->t[pos + 1], (m->n - pos - 1) * sizeof(*m->t));
 	m->n--;
 }
@@ -246,6 +259,7 @@ void model_prune_dead(struct model *m, int keep)
 	free(seq);
 	for (i = 0, j = 0; i < m->n; i++) {
 		if (m->t[i].reported_exit && m->t[i].dead_seq <= cut) {
+			free(m->t[i].snap);
 			m->forgotten++;
 			continue;
 		}
@@ -276,6 +290,10 @@ void model_sys_set(struct thread_model *tm, int nr, __u64 total)
 
 void model_free(struct model *m)
 {
+	int i;
+
+	for (i = 0; i < m->n; i++)
+		free(m->t[i].snap);
 	free(m->t);
 	memset(m, 0, sizeof(*m));
 }

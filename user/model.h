@@ -57,11 +57,19 @@ struct thread_model {
 	int policy;		/* -1 when the thread is gone */
 	int prio;
 	char cpus[64];		/* allowed CPUs as a list, e.g. "0-3" */
+	__u64 cpus_key;		/* the kernel's mask 'cpus' was made from */
 	bool alive;
 	bool reported_exit;
-	struct rtsup_thread cur;
-	struct rtsup_thread prev;	/* snapshot one interval ago */
-	bool have_prev;
+	struct rtsup_thread cur;	/* the last snapshot of the kernel entry */
+	/*
+	 * Computed once per snapshot (model_set) for every check and sink:
+	 * the interval (this snapshot minus the one before) and the lifetime.
+	 */
+	struct span_view win;
+	struct span_view life;
+	bool sampled;			/* a snapshot came this interval */
+	bool judged;			/* supervised in an earlier interval */
+	struct rtsup_thread *snap;	/* replay only: cur at the last interval */
 	int nsys;
 	struct sys_count sys[MODEL_MAX_SYS];
 	/* supervision: filled by the supervisor, read by the sinks */
@@ -107,6 +115,14 @@ void metric_view_window(const struct rtsup_metric_stats *cur,
 void span_life(const struct rtsup_thread *t, struct span_view *s);
 void span_window(const struct rtsup_thread *cur, const struct rtsup_thread *prev,
 		 __u32 bank, struct span_view *s);
+
+/*
+ * model_set - a new snapshot of the thread's kernel entry; its interval
+ * view is the change since the previous one (none yet: since the start)
+ */
+void model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank);
+/* model_idle - no snapshot this interval: an empty interval view */
+void model_idle(struct thread_model *tm);
 
 /* model_get - the thread's model, created (zeroed) when 'create' */
 struct thread_model *model_get(struct model *m, __u32 tid, bool create);

@@ -108,7 +108,6 @@ static json_t *json_thread(const struct collector *c, const struct supervisor *s
 			   const struct thread_model *tm, bool window)
 {
 	static const char *const modes[] = { "none", "activation", "delimiter" };
-	struct span_view s;
 	json_t *o;
 
 	o = json_pack("{s:i,s:i,s:s,s:s,s:i,s:s,s:b,s:s}", "tid", tm->tid, "tgid", tm->tgid,
@@ -134,12 +133,9 @@ static json_t *json_thread(const struct collector *c, const struct supervisor *s
 	json_object_set_new(o, "worst_level", json_string(level_name(tm->worst)));
 	if (tm->rule >= 0 && tm->rule_gen == sv->gen)
 		json_object_set_new(o, "rule", json_string(supervise_rule(sv, tm)->name));
-	if (window) {
-		span_window(&tm->cur, tm->have_prev ? &tm->prev : NULL, c->bank, &s);
-		json_object_set_new(o, "interval", json_span(&s, tm, true));
-	}
-	span_life(&tm->cur, &s);
-	json_object_set_new(o, "total", json_span(&s, tm, false));
+	if (window)
+		json_object_set_new(o, "interval", json_span(&tm->win, tm, true));
+	json_object_set_new(o, "total", json_span(&tm->life, tm, false));
 	return o;
 }
 
@@ -361,7 +357,6 @@ static void table_interval(const struct collector *c, const struct supervisor *s
 			   double elapsed, double interval)
 {
 	bool color = use_color(c->o);
-	struct span_view s;
 	char title[160];
 	int i, shown = 0, live = 0;
 
@@ -381,8 +376,7 @@ static void table_interval(const struct collector *c, const struct supervisor *s
 
 		if (tm->reported_exit)
 			continue;
-		span_window(&tm->cur, tm->have_prev ? &tm->prev : NULL, c->bank, &s);
-		table_row(tm, &s, tm->st.level, color);
+		table_row(tm, &tm->win, tm->st.level, color);
 	}
 	table_messages(c, sv);
 	if (sv->can)
@@ -419,10 +413,9 @@ static void table_summary(const struct collector *c, const struct supervisor *sv
 		table_header(title);
 	else
 		printf("%s\n", title);
-	for (i = 0; i < c->model.n; i++) {
-		span_life(&c->model.t[i].cur, &s);
-		table_row(&c->model.t[i], &s, c->model.t[i].worst, use_color(c->o));
-	}
+	for (i = 0; i < c->model.n; i++)
+		table_row(&c->model.t[i], &c->model.t[i].life, c->model.t[i].worst,
+			  use_color(c->o));
 	/* why each thread lost RT safety, by reason and by syscall */
 	for (i = 0; i < c->model.n; i++) {
 		const struct thread_model *tm = &c->model.t[i];

@@ -240,7 +240,6 @@ static void render_threads(const struct prom_in *in, struct prom_buf *b)
 		[RTSUP_M_CPU] = "cpu", [RTSUP_M_LATENCY] = "latency",
 	};
 	const struct model *m = in->m;
-	struct span_view life, win;
 	struct tlabels tl;
 	int i, k, c;
 
@@ -295,8 +294,7 @@ static void render_threads(const struct prom_in *in, struct prom_buf *b)
 			if (!exported(&m->t[i]))
 				continue;
 			thread_labels(&m->t[i], &tl);
-			span_life(&m->t[i].cur, &life);
-			prom_sample(b, tcounters[c].name, tcounter_value(&life, c), tl.l);
+			prom_sample(b, tcounters[c].name, tcounter_value(&m->t[i].life, c), tl.l);
 		}
 	}
 
@@ -306,9 +304,8 @@ static void render_threads(const struct prom_in *in, struct prom_buf *b)
 		if (!exported(&m->t[i]))
 			continue;
 		thread_labels(&m->t[i], &tl);
-		span_life(&m->t[i].cur, &life);
 		for (k = 0; k < RTSUP_U_NR; k++)
-			sample_kv(b, "rtsup_thread_unsafe_events_total", life.unsafe[k], tl.l,
+			sample_kv(b, "rtsup_thread_unsafe_events_total", m->t[i].life.unsafe[k], tl.l,
 				  "reason", unsafe_reason_name(k));
 	}
 	prom_family(b, "rtsup_thread_unsafe_syscalls_total", "counter",
@@ -337,10 +334,9 @@ static void render_threads(const struct prom_in *in, struct prom_buf *b)
 		if (!exported(&m->t[i]))
 			continue;
 		thread_labels(&m->t[i], &tl);
-		span_life(&m->t[i].cur, &life);
-		sample_kv(b, "rtsup_thread_context_switches_total", life.vol_cs, tl.l, "kind",
+		sample_kv(b, "rtsup_thread_context_switches_total", m->t[i].life.vol_cs, tl.l, "kind",
 			  "voluntary");
-		sample_kv(b, "rtsup_thread_context_switches_total", life.invol_cs, tl.l, "kind",
+		sample_kv(b, "rtsup_thread_context_switches_total", m->t[i].life.invol_cs, tl.l, "kind",
 			  "involuntary");
 	}
 	prom_family(b, "rtsup_thread_page_faults_total", "counter",
@@ -349,9 +345,8 @@ static void render_threads(const struct prom_in *in, struct prom_buf *b)
 		if (!exported(&m->t[i]))
 			continue;
 		thread_labels(&m->t[i], &tl);
-		span_life(&m->t[i].cur, &life);
-		sample_kv(b, "rtsup_thread_page_faults_total", life.minflt, tl.l, "kind", "minor");
-		sample_kv(b, "rtsup_thread_page_faults_total", life.majflt, tl.l, "kind", "major");
+		sample_kv(b, "rtsup_thread_page_faults_total", m->t[i].life.minflt, tl.l, "kind", "minor");
+		sample_kv(b, "rtsup_thread_page_faults_total", m->t[i].life.majflt, tl.l, "kind", "major");
 	}
 
 	prom_family(b, "rtsup_thread_latency_seconds", "histogram",
@@ -378,10 +373,9 @@ static void render_threads(const struct prom_in *in, struct prom_buf *b)
 		if (!exported(&m->t[i]))
 			continue;
 		thread_labels(&m->t[i], &tl);
-		span_life(&m->t[i].cur, &life);
 		for (k = 0; k < RTSUP_M_NR; k++)
-			if (life.m[k].count)
-				sample_kv(b, "rtsup_thread_ewma_seconds", life.m[k].ewma / 1e9,
+			if (m->t[i].life.m[k].count)
+				sample_kv(b, "rtsup_thread_ewma_seconds", m->t[i].life.m[k].ewma / 1e9,
 					  tl.l, "metric", mnames[k]);
 	}
 	prom_family(b, "rtsup_thread_interval_max_seconds", "gauge",
@@ -392,11 +386,10 @@ static void render_threads(const struct prom_in *in, struct prom_buf *b)
 		if (!exported(tm))
 			continue;
 		thread_labels(tm, &tl);
-		span_window(&tm->cur, tm->have_prev ? &tm->prev : NULL, in->bank, &win);
 		for (k = 0; k < RTSUP_M_NR; k++)
-			if (win.m[k].count)
+			if (tm->win.m[k].count)
 				sample_kv(b, "rtsup_thread_interval_max_seconds",
-					  win.m[k].max / 1e9, tl.l, "metric", mnames[k]);
+					  tm->win.m[k].max / 1e9, tl.l, "metric", mnames[k]);
 	}
 }
 

@@ -145,6 +145,13 @@ static void on_mark(struct replay *r, const struct rec_interval *ri, bool end)
 			      c->model.t[i].tid, c->model.t[i].comm, c->model.t[i].pcomm);
 	c->bank = r->epoch & 1;
 	r->epoch++;
+	/* what the live collector computes per sample: the change since the last mark */
+	for (i = 0; i < c->model.n; i++) {
+		struct thread_model *tm = &c->model.t[i];
+
+		span_window(&tm->cur, tm->snap, c->bank, &tm->win);
+		span_life(&tm->cur, &tm->life);
+	}
 	supervise_interval(r->s, &c->model, c->bank, &self, ri->mono_ns);
 	/* like a live run: the last, partial interval, then the summary */
 	output_interval(c, r->s, (ri->mono_ns - r->start) / 1e9, (ri->mono_ns - r->last) / 1e9);
@@ -163,8 +170,13 @@ static void on_mark(struct replay *r, const struct rec_interval *ri, bool end)
 			tm->sys[j].prev = tm->sys[j].total;
 		if (!tm->alive)
 			tm->reported_exit = true;
-		tm->prev = tm->cur;
-		tm->have_prev = true;
+		if (!tm->snap)
+			tm->snap = malloc(sizeof(*tm->snap));
+		if (!tm->snap) {
+			fprintf(stderr, "rtsup-trace: replay: out of memory\n");
+			exit(1);
+		}
+		*tm->snap = tm->cur;
 	}
 }
 

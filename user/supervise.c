@@ -119,7 +119,7 @@ static void find_restart(struct model *m, struct thread_model *tm)
 {
 	int i;
 
-	if (tm->restarted_from || tm->have_prev)
+	if (tm->restarted_from || tm->judged)
 		return;
 	for (i = 0; i < m->n; i++) {
 		struct thread_model *d = &m->t[i];
@@ -153,7 +153,6 @@ static void unsafe_names(const struct thread_model *tm, char *buf, size_t len)
 void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 			const struct self_in *self, __u64 now)
 {
-	struct span_view win, life;
 	struct status st, old;
 	char comp[48], names[256];
 	int i;
@@ -168,13 +167,12 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 		match_rule(s, tm);
 		if (tm->alive)
 			find_restart(m, tm);
+		tm->judged = true;
 		r = supervise_rule(s, tm);
-		span_window(&tm->cur, tm->have_prev ? &tm->prev : NULL, bank, &win);
-		span_life(&tm->cur, &life);
 		unsafe_names(tm, names, sizeof(names));
 		memset(&in, 0, sizeof(in));
-		in.win = &win;
-		in.life = &life;
+		in.win = &tm->win;
+		in.life = &tm->life;
 		in.rule = r;
 		/* RT threads and threads a rule names are held to the cycle checks */
 		if (tm->policy == 1 || tm->policy == 2 || tm->policy == 6)

@@ -203,20 +203,21 @@ int targets_scan(const struct targets *t, target_cb cb, void *ctx)
 	return err;
 }
 
-void cpu_list(pid_t tid, char *buf, size_t len)
+void cpu_list_mask(const unsigned long *bits, int nbits, char *buf, size_t len)
 {
-	cpu_set_t set;
+	const int w = 8 * sizeof(*bits);
 	size_t off = 0;
 	int c, start = -1;
 
 	buf[0] = '\0';
-	if (sched_getaffinity(tid, sizeof(set), &set)) {
-		snprintf(buf, len, "-");
-		return;
-	}
-	for (c = 0; c <= CPU_SETSIZE; c++) {
-		bool in = c < CPU_SETSIZE && CPU_ISSET(c, &set);
+	for (c = 0; c <= nbits; c++) {
+		bool in = c < nbits && (bits[c / w] >> (c % w) & 1);
 
+		/* a whole empty word at once: most of a 1024-bit set */
+		if (!in && start < 0 && c % w == 0 && c < nbits && !bits[c / w]) {
+			c += w - 1;
+			continue;
+		}
 		if (in && start < 0)
 			start = c;
 		if (!in && start >= 0) {
@@ -228,4 +229,15 @@ void cpu_list(pid_t tid, char *buf, size_t len)
 			start = -1;
 		}
 	}
+}
+
+void cpu_list(pid_t tid, char *buf, size_t len)
+{
+	cpu_set_t set;
+
+	if (sched_getaffinity(tid, sizeof(set), &set)) {
+		snprintf(buf, len, "-");
+		return;
+	}
+	cpu_list_mask(set.__bits, CPU_SETSIZE, buf, len);
 }

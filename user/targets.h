@@ -44,5 +44,7 @@ bool process_exists(pid_t pid);
 bool comm_matches(const struct targets *t, const char *comm);
 /* cpu_list - format a thread's allowed CPUs as "0-3,6" */
 void cpu_list(pid_t tid, char *buf, size_t len);
+/* cpu_list_mask - the same for a CPU bit mask of nbits bits */
+void cpu_list_mask(const unsigned long *bits, int nbits, char *buf, size_t len);
 
 #endif

@@ -7,7 +7,7 @@ import time
 import pytest
 
 from conftest import (EMULATED, LOADGEN, PERIOD_US, TRACE, Loadgen, Trace, run_supervised,
-                      threads_by_tid)
+                      threads_by_tid, unique_prefix)
 
 pytestmark = pytest.mark.usefixtures("bpf")
 
@@ -131,6 +131,45 @@ def test_comm_picks_up_process_started_later(tmp_path):
     assert truth["pid"] in got
     for t in truth["threads"]:
         assert got[t["tid"]]["total"]["cycles"] == pytest.approx(t["cycles"], rel=0.01)
+
+
+def _tid_named(pid, comm, timeout=30):
+    end = time.time() + timeout
+    while time.time() < end:
+        for tid in os.listdir("/proc/%d/task" % pid):
+            try:
+                if open("/proc/%d/task/%s/comm" % (pid, tid)).read().strip() == comm:
+                    return int(tid)
+            except OSError:
+                pass
+        time.sleep(0.05)
+    raise AssertionError("no thread named " + comm)
+
+
+@pytest.mark.skipif(os.cpu_count() < 2, reason="needs two CPUs to move a thread")
+def test_policy_and_affinity_changes_are_seen(tmp_path):
+    # the kernel copies policy, priority and CPUs once per cycle: a chrt or
+    # taskset on a running thread shows in the following intervals
+    prefix = unique_prefix()
+    tr = Trace(["-i", "200ms", "--comm=%s-0" % prefix])
+    lg = Loadgen(tmp_path, ["--name", prefix, "-n", "1", "-c", "100000"], hold=False)
+    try:
+        tid = _tid_named(lg.pid, prefix + "-0")
+        time.sleep(0.6 if not EMULATED else 3)
+        subprocess.run(["chrt", "-f", "-p", "70", str(tid)], check=True)
+        subprocess.run(["taskset", "-p", "-c", "0", str(tid)], check=True,
+                       stdout=subprocess.DEVNULL)
+        time.sleep(0.8 if not EMULATED else 4)
+        intervals, _, _ = tr.stop()
+    finally:
+        lg.stop()
+        if tr.proc.poll() is None:
+            tr.proc.kill()
+    seen = [[t for t in i["threads"] if t["tid"] == tid] for i in intervals]
+    seen = [x[0] for x in seen if x]
+    assert seen[0]["prio"] == 80 and seen[0]["cpus"] == "0-%d" % (os.cpu_count() - 1)
+    assert seen[-1]["policy"] == "SCHED_FIFO" and seen[-1]["prio"] == 70
+    assert seen[-1]["cpus"] == "0"
 
 
 def test_pid_target_includes_threads_created_later(tmp_path):

@@ -377,6 +377,44 @@ static void test_model_span_window_restart_more_cycles(void **state)
 	assert_int_equal(s.m[RTSUP_M_EXEC].count, 1000);
 }
 
+/*
+ * model_set: the first snapshot's interval is everything so far, the next
+ * one's is the change; model_idle empties the interval, not the lifetime
+ */
+static void test_model_set_snapshots(void **state)
+{
+	struct tfx *t = *state;
+	struct model m = { 0 };
+	struct thread_model *tm = model_get(&m, 42, true);
+
+	assert_non_null(tm);
+	t->cur.first_seen = 7;
+	add_cycles(&t->cur, 30, 100 * US, 0);
+	t->cur.vol_cs = 31;
+	model_set(tm, &t->cur, 0);
+	assert_int_equal(tm->win.cycles, 30);
+	assert_int_equal(tm->win.vol_cs, 31);
+	assert_int_equal(tm->life.cycles, 30);
+	assert_int_equal(tm->win.m[RTSUP_M_EXEC].count, 30);
+
+	minmax_reset(&t->cur.m[RTSUP_M_EXEC].win[1]);
+	add_cycles(&t->cur, 12, 300 * US, 1);
+	t->cur.vol_cs = 45;
+	model_set(tm, &t->cur, 1);
+	assert_int_equal(tm->win.cycles, 12);
+	assert_int_equal(tm->win.vol_cs, 14);
+	assert_int_equal(tm->win.m[RTSUP_M_EXEC].count, 12);
+	assert_int_equal(tm->win.m[RTSUP_M_EXEC].min, 300 * US);
+	assert_int_equal(tm->life.cycles, 42);
+	assert_int_equal(tm->life.m[RTSUP_M_EXEC].min, 100 * US);
+
+	model_idle(tm);
+	assert_int_equal(tm->win.cycles, 0);
+	assert_int_equal(tm->win.m[RTSUP_M_EXEC].count, 0);
+	assert_int_equal(tm->life.cycles, 42);
+	model_free(&m);
+}
+
 static int model_setup(void **state)
 {
 	struct model *m = calloc(1, sizeof(*m));
@@ -534,6 +572,7 @@ int main(void)
 		TS(test_model_span_window),
 		TS(test_model_span_window_restart),
 		TS(test_model_span_window_restart_more_cycles),
+		TS(test_model_set_snapshots),
 		M(test_model_get_sorted),
 		M(test_model_remove),
 		M(test_model_sys_set),

@@ -35,6 +35,7 @@ static void add_value(struct rtsup_metric_stats *m, __u64 v)
 static struct thread_model *thread(struct model *m, __u32 tid, const char *comm, int n)
 {
 	struct thread_model *tm = model_get(m, tid, true);
+	struct rtsup_thread t = { .first_seen = 1 };
 	int i;
 
 	tm->tgid = 100;
@@ -46,14 +47,16 @@ static struct thread_model *thread(struct model *m, __u32 tid, const char *comm,
 	tm->was_rt = true;
 	tm->rule = -1;
 	snprintf(tm->cpus, sizeof(tm->cpus), "0-1");
-	tm->cur.cycles = n;
-	tm->cur.misses = 2;
-	tm->cur.vol_cs = n;
-	tm->cur.unsafe[RTSUP_U_MINFLT] = 3;
+	t.cycles = n;
+	t.misses = 2;
+	t.vol_cs = n;
+	t.unsafe[RTSUP_U_MINFLT] = 3;
 	for (i = 0; i < n; i++) {
-		add_value(&tm->cur.m[RTSUP_M_EXEC], 100000);
-		add_value(&tm->cur.m[RTSUP_M_LATENCY], 10000 + i * 1000ULL);
+		add_value(&t.m[RTSUP_M_EXEC], 100000);
+		add_value(&t.m[RTSUP_M_LATENCY], 10000 + i * 1000ULL);
 	}
+	/* the first snapshot, as the collector takes it */
+	model_set(tm, &t, 0);
 	status_reset(&tm->st);
 	return tm;
 }
