@@ -1,8 +1,9 @@
 #!/bin/sh
 # guest.sh - the part of make bench that runs inside the PREEMPT_RT guest
 # (scripts/vm-test; this machine's kernel has no CAN): a cangen -g 0 flood
-# and cyclictest, each without rtsup-trace, with it as shipped and with
-# --no-overhead (no BPF statistics), interleaved, REPS times.
+# and cyclictest, each without rtsup-trace, with it as shipped, with
+# --no-overhead (no BPF statistics) and with the floor (empty programs on
+# the same hooks), interleaved, REPS times.
 # One JSON object per measurement on stdout; rtsup-trace's own output goes
 # to OUT (a directory under build/, which the guest shares with the host).
 #
@@ -37,18 +38,23 @@ stop_trace() {
 }
 
 # variants in the order of round r: a different one goes first each round
-# (rtsup-trace as shipped, and without its BPF statistics: --no-overhead)
+# (rtsup-trace as shipped, without its BPF statistics: --no-overhead, and
+# the floor: the same hooks with empty programs, --floor --no-overhead)
 order() {
-	case $(($1 % 3)) in
-	1) echo "base rtsup nostats" ;;
-	2) echo "rtsup nostats base" ;;
-	*) echo "nostats base rtsup" ;;
+	case $(($1 % 4)) in
+	1) echo "base rtsup nostats floor" ;;
+	2) echo "rtsup nostats floor base" ;;
+	3) echo "nostats floor base rtsup" ;;
+	*) echo "floor base rtsup nostats" ;;
 	esac
 }
 
 # trace_args VARIANT - rtsup-trace's options for a variant
 trace_args() {
-	[ "$1" = nostats ] && echo "--no-overhead"
+	case $1 in
+	nostats) echo "--no-overhead" ;;
+	floor) echo "--floor --no-overhead" ;;
+	esac
 }
 
 ip link add dev vcan0 type vcan && ip link set up vcan0 || exit 1

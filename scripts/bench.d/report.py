@@ -28,7 +28,8 @@ T_USER_RSS_MIB = 16
 
 MAIN = ["floor", "rtsup", "floor_nostats", "rtsup_nostats"]
 GUEST_LABEL = {"base": "without", "rtsup": "rtsup-trace as shipped",
-               "nostats": "rtsup-trace --no-overhead"}
+               "nostats": "rtsup-trace --no-overhead",
+               "floor": "floor: empty programs, --no-overhead"}
 
 
 def med(xs):
@@ -212,7 +213,7 @@ def plots(r, res):
     g = res.get("guest", {})
     if g.get("can") or g.get("cyclictest"):
         fig, axs = plt.subplots(1, 2, figsize=(10, 3.4))
-        for v, mk in (("base", "o"), ("rtsup", "s"), ("nostats", "^")):
+        for v, mk in (("base", "o"), ("rtsup", "s"), ("nostats", "^"), ("floor", "x")):
             xs = [c["rep"] for c in g.get("can", []) if c["variant"] == v]
             ys = [c["frames"] / (c["ns"] / 1e9) / 1000 for c in g.get("can", [])
                   if c["variant"] == v]
@@ -364,7 +365,7 @@ def render(r, res, made):
           % (h, what, T_NS[h], net, raw, "; derived: about %.0f %% of the events involved a target"
              % (share * 100) if share else "", yes(net <= T_NS[h])))
     g = res.get("guest", {})
-    can_r = [c for c in g.get("can", []) if c["variant"] != "base"]
+    can_r = [c for c in g.get("can", []) if c["variant"] not in ("base", "floor")]
     if can_r:
         acc = [c.get("accounted_pct") for c in can_r]
         a("| CAN: 100 %% of the frames accounted | %d floods of %d frames: %s | %s |" % (
@@ -372,7 +373,7 @@ def render(r, res, made):
             "every one 100.00 %" if all(x == 100.0 for x in acc) else
             ", ".join(fmt(x, "%.2f %%") for x in acc),
             yes(all(x is not None and x == 100.0 for x in acc))))
-        for v in ("rtsup", "nostats"):
+        for v in ("rtsup", "nostats", "floor"):
             ratio = can_ratio(g, v)
             if ratio:
                 a("| CAN: flood throughput within 2 %% of baseline, %s | %.1f %% slower (median "
@@ -524,15 +525,20 @@ def render(r, res, made):
             a("kframes/s per flood; in brackets the ratio to the same round's flood without "
               "rtsup-trace, and what rtsup-trace counted:")
             a("")
-            a("| round | without | %s | %s |" % (GUEST_LABEL["rtsup"], GUEST_LABEL["nostats"]))
-            a("|---:|---:|---:|---:|")
+            a("| round | without | %s | %s | %s |" % (GUEST_LABEL["rtsup"], GUEST_LABEL["nostats"],
+                                                   GUEST_LABEL["floor"]))
+            a("|---:|---:|---:|---:|---:|")
             for rnd in sorted({c["rep"] for c in g.get("can", [])}):
                 b = [c for c in g["can"] if c["rep"] == rnd and c["variant"] == "base"]
                 fb = b[0]["frames"] / b[0]["ns"] * 1e6 if b else None
                 row = [fmt(fb, "%.1f")]
-                for v in ("rtsup", "nostats"):
+                for v in ("rtsup", "nostats", "floor"):
                     x = [c for c in g["can"] if c["rep"] == rnd and c["variant"] == v]
                     fx = x[0]["frames"] / x[0]["ns"] * 1e6 if x else None
+                    if x and v == "floor":  # empty programs count nothing
+                        row.append("%s (%s)" % (fmt(fx, "%.1f"),
+                                                fmt(fx / fb if fb and fx else None, "%.3f")))
+                        continue
                     row.append("%s (%s; %s of %d)" % (
                         fmt(fx, "%.1f"), fmt(fx / fb if fb and fx else None, "%.3f"),
                         x[0].get("accounted"), x[0]["frames"]) if x else "-")
@@ -545,18 +551,19 @@ def render(r, res, made):
                   "hot path on every cycle). Average and maximum over the two threads, us:"
                   % res["args"]["loops"])
                 a("")
-                a("| round | without: avg | max | as shipped: avg | max | --no-overhead: avg | max |")
-                a("|---:|---:|---:|---:|---:|---:|---:|")
+                a("| round | without: avg | max | as shipped: avg | max | --no-overhead: avg | max "
+                  "| floor: avg | max |")
+                a("|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
                 for rnd in sorted({c["rep"] for c in cy}):
                     row = []
-                    for v in ("base", "rtsup", "nostats"):
+                    for v in ("base", "rtsup", "nostats", "floor"):
                         x = [c for c in cy if c["rep"] == rnd and c["variant"] == v and c["threads"]]
                         row += [fmt(statistics.mean(t["avg_us"] for t in x[0]["threads"]) if x
                                     else None, "%.0f"),
                                 fmt(max(t["max_us"] for t in x[0]["threads"]) if x else None, "%d")]
                     a("| %d | %s |" % (rnd, " | ".join(row)))
                 a("")
-                for v in ("rtsup", "nostats"):
+                for v in ("rtsup", "nostats", "floor"):
                     rel = cyc_ratio(cy, v)
                     if rel:
                         a("- average latency, %s / without, paired by round: median %.2f "
