@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause */
 /*
- * model.h - what userspace knows about each thread: the last two snapshots
- * of its kernel entry and the numbers derived from them, per interval and
+ * model.h - what userspace knows about each thread: the last snapshot
+ * of its kernel entry and the numbers derived from it, per interval and
  * over its lifetime. Plain C, no kernel, so the unit tests cover it.
  */
 #ifndef RTSUP_MODEL_H
