@@ -124,6 +124,14 @@ def prog_of(r, v, w, h):
     return None
 
 
+def per_event_pair(r):
+    """The variants per-event costs come from: rtsup-trace and the floor with
+    BPF statistics on throughout (older results: the shipped variants)."""
+    if r.ran("rtsup_stats") and r.ran("floor_stats"):
+        return "rtsup_stats", "floor_stats"
+    return "rtsup", "floor"
+
+
 def target_only(r, w, h, v="rtsup", floor="floor"):
     """Per target event: the loadgen workload mixes target events with the
     machine's other events; take the non-target cost from sched_pipe (where no
@@ -191,7 +199,8 @@ def plots(r, res):
     if len(wl_ev) == 1:
         axs = [axs]
     for ax, w in zip(axs, wl_ev):
-        for k, (v, lab) in enumerate((("floor", "floor (empty)"), ("rtsup", "rtsup-trace"))):
+        pr_, pf_ = per_event_pair(r)
+        for k, (v, lab) in enumerate(((pf_, "floor (empty)"), (pr_, "rtsup-trace"))):
             # a program that ran only a few thousand times here says little
             ys = [r.ns(v, w, prog_of(r, v, w, h))
                   if prog_of(r, v, w, h) and r.progs(v, w)[prog_of(r, v, w, h)][0] >= 20000
@@ -352,15 +361,16 @@ def render(r, res, made):
                        ("sched_wakeup", "loadgen", "of a target (loadgen)"),
                        ("sched_wakeup", "sched_pipe", "of a thread that is not a target"),
                        ("sys_enter", "syscall", "of a thread that is not a target")):
+        vr, vf = per_event_pair(r)
         if w == "loadgen":
-            net, share = target_only(r, w, h)
+            net, share = target_only(r, w, h, vr, vf)
         else:
-            pr, pf = prog_of(r, "rtsup", w, h), prog_of(r, "floor", w, h)
-            net = r.ns("rtsup", w, pr) - r.ns("floor", w, pf) if pr and pf else None
+            pr, pf = prog_of(r, vr, w, h), prog_of(r, vf, w, h)
+            net = r.ns(vr, w, pr) - r.ns(vf, w, pf) if pr and pf else None
             share = None
         if net is None:
             continue
-        raw = r.ns("rtsup", w, prog_of(r, "rtsup", w, h))
+        raw = r.ns(vr, w, prog_of(r, vr, w, h))
         a("| %s %s ≤ %d ns | %.1f ns (%.1f ns with bpf_stats' clock reads, floor taken out%s) | %s |"
           % (h, what, T_NS[h], net, raw, "; derived: about %.0f %% of the events involved a target"
              % (share * 100) if share else "", yes(net <= T_NS[h])))
@@ -448,21 +458,22 @@ def render(r, res, made):
     if made and "bench-per-event.png" in made:
         a("![ns per event](bench-per-event.png)")
         a("")
-    a("`run_time_ns / run_cnt` of each program while a workload ran, summed over the rounds. "
-      "rtsup-trace as shipped switches the kernel's BPF statistics on itself (its overhead "
-      "check); the floor runs the same way, so `floor` is what the statistics' own two clock "
-      "reads and an empty program cost on this machine, and `net` = rtsup-trace − floor is "
-      "what our program bodies cost. In sched pipe, syscall, messaging and page fault no "
-      "thread is a target: those rows are the filter. In loadgen most events are targets' "
-      "(the full hot path).")
+    vr, vf = per_event_pair(r)
+    a("`run_time_ns / run_cnt` of each program while a workload ran, summed over the rounds, "
+      "from the variants `%s` and `%s`: rtsup-trace and the floor with the kernel's BPF "
+      "statistics on for the whole run (as shipped, rtsup-trace has them on one interval in "
+      "30 only). So `floor` is what the statistics' own two clock reads and an empty program "
+      "cost on this machine, and `net` = rtsup-trace − floor is what our program bodies cost. "
+      "In sched pipe, syscall, messaging and page fault no thread is a target: those rows are "
+      "the filter. In loadgen most events are targets' (the full hot path)." % (vr, vf))
     a("")
     a("| workload | program | runs | rtsup-trace ns | floor ns | net ns |")
     a("|---|---|---:|---:|---:|---:|")
     for w in r.wl:
-        for p, (c, t) in sorted(r.progs("rtsup", w).items(), key=lambda x: -x[1][0]):
+        for p, (c, t) in sorted(r.progs(vr, w).items(), key=lambda x: -x[1][0]):
             if c < 1000:
                 continue
-            f = r.ns("floor", w, prog_of(r, "floor", w, hook(p)) or "")
+            f = r.ns(vf, w, prog_of(r, vf, w, hook(p)) or "")
             a("| %s | %s | %d | %.1f | %s | %s |" % (w, p, c, t / c, fmt(f, "%.1f"),
                                                        fmt(t / c - f if f else None, "%.1f")))
     a("")
