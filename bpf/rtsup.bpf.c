@@ -58,6 +58,12 @@ __u32 epoch;			/* flipped every interval */
 __s64 clock_off[16];		/* clock id -> its offset to CLOCK_MONOTONIC */
 /* Thread ids that may be targets: the hooks' first test, one load (rtsup.h) */
 __u64 tidmask[RTSUP_TIDMASK_WORDS];
+/*
+ * Targets whose next wakeup time will be read (cycle_wakeup_read()): a
+ * periodic thread sleeping until a requested release has its bit clear,
+ * and its sched_wakeup costs this one load, no map lookup.
+ */
+__u64 wakemask[RTSUP_TIDMASK_WORDS];
 
 struct {
 	__uint(type, BPF_MAP_TYPE_HASH);
@@ -162,6 +168,20 @@ static __always_inline void zero_mem(void *p, __u32 n)
 static __always_inline int maybe_target(__u32 tid)
 {
 	return (tidmask[RTSUP_TIDMASK_WORD(tid)] & RTSUP_TIDMASK_BIT(tid)) != 0;
+}
+
+/* note_wake - keep the thread's wakemask bit equal to cycle_wakeup_read() */
+static __always_inline void note_wake(const struct rtsup_thread *t)
+{
+	__u64 *w = &wakemask[RTSUP_TIDMASK_WORD(t->tid)], bit = RTSUP_TIDMASK_BIT(t->tid);
+	int want = !t->exited && cycle_wakeup_read(t);
+
+	if (!!(*w & bit) == want)
+		return;
+	if (want)
+		__sync_fetch_and_or(w, bit);
+	else
+		__sync_fetch_and_and(w, ~bit);
 }
 
 /* lookup_thread - the thread's entry, NULL for every thread that is no target */
@@ -272,6 +292,8 @@ static __always_inline struct rtsup_thread *add_thread(struct task_struct *task,
 	if (!tmpl)
 		return NULL;
 	__sync_fetch_and_or(&tidmask[RTSUP_TIDMASK_WORD(tid)], RTSUP_TIDMASK_BIT(tid));
+	/* a new thread's wakeups are read until it shows a delimiter */
+	__sync_fetch_and_or(&wakemask[RTSUP_TIDMASK_WORD(tid)], RTSUP_TIDMASK_BIT(tid));
 	err = bpf_map_update_elem(&threads, &tid, tmpl, BPF_NOEXIST);
 	if (err && err != -EEXIST) {
 		count(RTSUP_C_MAP_FULL);
@@ -409,6 +431,7 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id)
 		ev = cycle_delim_enter(t, &cf, now, expected, absolute,
 				       BPF_CORE_READ(task, min_flt),
 				       BPF_CORE_READ(task, maj_flt), &c);
+		note_wake(t);
 		if (ev & CYC_EV_CLOSED)
 			emit_cycle(ev, t, now, &c, now - expected);
 		return 0;
@@ -442,6 +465,7 @@ static __always_inline int on_sys_exit(void)
 	task = (struct task_struct *)bpf_get_current_task();
 	cycle_delim_exit(t, bpf_ktime_get_ns(), BPF_CORE_READ(task, min_flt),
 			 BPF_CORE_READ(task, maj_flt));
+	note_wake(t);
 	return 0;
 }
 
@@ -475,8 +499,9 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 
 	if (!maybe_target(prev_tid) && !maybe_target(next_tid) && !cfg_rt)
 		return 0;
-	pt = bpf_map_lookup_elem(&threads, &prev_tid);
-	nt = bpf_map_lookup_elem(&threads, &next_tid);
+	/* one side is usually no target (idle, a kworker): no lookup for it */
+	pt = maybe_target(prev_tid) ? bpf_map_lookup_elem(&threads, &prev_tid) : NULL;
+	nt = maybe_target(next_tid) ? bpf_map_lookup_elem(&threads, &next_tid) : NULL;
 	if (!nt && cfg_rt && next_tid) {
 		policy = TREAD(btf, next, policy);
 		if (policy == SCHED_FIFO || policy == SCHED_RR || policy == SCHED_DEADLINE)
@@ -514,8 +539,12 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 static __always_inline int on_wakeup(struct task_struct *p, const int btf)
 {
 	__u32 tid = TREAD(btf, p, pid);
-	struct rtsup_thread *t = lookup_thread(tid);
+	struct rtsup_thread *t;
 
+	/* no target, or one whose wakeup time nobody reads: one load */
+	if (!(wakemask[RTSUP_TIDMASK_WORD(tid)] & RTSUP_TIDMASK_BIT(tid)))
+		return 0;
+	t = bpf_map_lookup_elem(&threads, &tid);
 	if (t && cycle_wakeup_read(t))
 		cycle_wakeup(t, bpf_ktime_get_ns());
 	return 0;
@@ -580,6 +609,7 @@ static __always_inline int on_exit(struct task_struct *task)
 		return 0;
 	now = bpf_ktime_get_ns();
 	cycle_exit(t, now, BPF_CORE_READ(task, min_flt), BPF_CORE_READ(task, maj_flt));
+	note_wake(t);
 	t->exit_code = BPF_CORE_READ(task, exit_code);
 	emit(RTSUP_EV_EXIT, t, now, t->exit_mid_cycle, t->exit_code);
 	return 0;

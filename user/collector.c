@@ -93,6 +93,9 @@ static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, bool 
 	/* the hooks look a thread up only when its bit is set (rtsup.h) */
 	__atomic_fetch_or(&c->skel->bss->tidmask[RTSUP_TIDMASK_WORD(key)],
 			  RTSUP_TIDMASK_BIT(key), __ATOMIC_SEQ_CST);
+	/* and read its wakeups until it shows a delimiter (rtsup.bpf.c) */
+	__atomic_fetch_or(&c->skel->bss->wakemask[RTSUP_TIDMASK_WORD(key)],
+			  RTSUP_TIDMASK_BIT(key), __ATOMIC_SEQ_CST);
 	/* the kernel may have added it since attach: keep its entry */
 	if (bpf_map_update_elem(bpf_map__fd(c->skel->maps.threads), &key, t, BPF_NOEXIST) &&
 	    errno != EEXIST) {

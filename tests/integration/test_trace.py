@@ -216,6 +216,24 @@ def test_relative_sleep_with_nominal_period(tmp_path):
         assert tot["deadline_misses"] == 0
 
 
+def test_activation_mode_reads_wakeups(tmp_path):
+    # a delimiter the generator never calls: its threads fall back to
+    # activations (wakeup to block), whose latency needs every wakeup's time
+    truth, _, summary = run_supervised(
+        tmp_path, ["-c", "1000"], ["--cycle-syscall", "epoll_wait"])
+    got = threads_by_tid(summary)
+    for t in truth["threads"]:
+        g = got[t["tid"]]
+        assert g["mode"] == "activation"
+        tot = g["total"]
+        # one activation per cycle; the start-up may add or drop a few
+        assert tot["cycles"] == pytest.approx(t["cycles"], abs=10)
+        lat = tot["latency_ns"]
+        assert lat["count"] >= tot["cycles"] - 10
+        assert 0 < lat["p50"] < PERIOD_US * 1000
+        assert tot["period_ns"]["mean"] == pytest.approx(PERIOD_US * 1000, rel=0.05)
+
+
 def test_stall_starves_the_thread(tmp_path):
     truth, _, summary = run_supervised(
         tmp_path, ["-c", "1500", "-C", "0,1", "-f", "stall:8@500,thread=0"])
