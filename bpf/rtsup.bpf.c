@@ -471,14 +471,15 @@ static __always_inline int on_sys_exit(void)
 
 /*
  * note_identity - policy, priority and affinity for userspace, once per
- * cycle: the first switch-in after a cycle ended (a compare otherwise)
+ * interval: the first switch-in after userspace moved the epoch on (a
+ * compare otherwise)
  */
 static __always_inline void note_identity(struct rtsup_thread *t, struct task_struct *p,
 					  const int btf)
 {
-	if (t->id_at == t->cycles + 1)
+	if (t->id_at == epoch + 1)
 		return;
-	t->id_at = t->cycles + 1;
+	t->id_at = epoch + 1;
 	t->policy = TREAD(btf, p, policy);
 	t->rt_prio = TREAD(btf, p, rt_priority);
 	t->ncpus = TREAD(btf, p, nr_cpus_allowed);

@@ -146,10 +146,10 @@ struct rtsup_cycle_state {
 struct rtsup_thread {
 	struct rtsup_cycle_state cs;
 	/*
-	 * Scheduling identity, copied from the task once per cycle at a
+	 * Scheduling identity, copied from the task once per interval at a
 	 * switch-in, so userspace needs no syscall per thread and interval.
 	 */
-	__u64 id_at;		/* cycles + 1 when last copied; 0 = never */
+	__u64 id_at;		/* epoch + 1 when last copied; 0 = never */
 	__u64 cpus0;		/* allowed CPUs 0-63 */
 	__u32 policy;		/* SCHED_* */
 	__u32 rt_prio;		/* 1-99 for FIFO/RR, else 0 */
