@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
+#include <sys/syscall.h>
 #include <bpf/bpf.h>
 #include <bpf/libbpf.h>
 #include "collector.h"
@@ -250,6 +252,22 @@ static void refresh_identity(struct thread_model *tm)
 	tm->cpus_key = 0;
 }
 
+/* idle_in_window - not switched in or out in the interval just read */
+static bool idle_in_window(const struct thread_model *tm)
+{
+	return !tm->win.vol_cs && !tm->win.invol_cs;
+}
+
+/*
+ * thread_gone - the thread does not exist any more. The start-up scan can
+ * find a thread already past its exit tracepoint: no exit event will mark
+ * its entry, so an idle entry is checked against the kernel.
+ */
+static bool thread_gone(__u32 tgid, __u32 tid)
+{
+	return syscall(SYS_tgkill, tgid, tid, 0) < 0 && errno == ESRCH;
+}
+
 /* take - one thread's new kernel snapshot into the model */
 static int take(struct collector *c, __u32 tid, const struct rtsup_thread *t)
 {
@@ -272,7 +290,7 @@ static int take(struct collector *c, __u32 tid, const struct rtsup_thread *t)
 	memcpy(tm->comm, t->comm, RTSUP_COMM_LEN);
 	tm->comm[RTSUP_COMM_LEN - 1] = '\0';
 	comm_sanitize(tm->comm, RTSUP_COMM_LEN);
-	tm->alive = !t->exited;
+	tm->alive = !t->exited && !(idle_in_window(tm) && thread_gone(t->tgid, tid));
 	if (tm->alive)
 		refresh_identity(tm);
 	else

@@ -314,7 +314,9 @@ def test_pid_that_exits_keeps_running(tmp_path):
     time.sleep(0.6)
     assert tr.proc.poll() is None  # still running after its target is gone
     intervals, summary, _ = tr.stop(sig=__import__("signal").SIGTERM)
-    assert all(not t["alive"] for t in summary["threads"])
+    alive = [{k: t.get(k) for k in ("tid", "comm", "alive", "mode", "policy")}
+             for t in summary["threads"] if t["alive"]]
+    assert not alive, alive
 
 
 def test_rt_selects_rt_threads_only(tmp_path):
