@@ -469,23 +469,6 @@ static __always_inline int on_sys_exit(void)
 	return 0;
 }
 
-/*
- * note_identity - policy, priority and affinity for userspace, once per
- * interval: the first switch-in after userspace moved the epoch on (a
- * compare otherwise)
- */
-static __always_inline void note_identity(struct rtsup_thread *t, struct task_struct *p,
-					  const int btf)
-{
-	if (t->id_at == epoch + 1)
-		return;
-	t->id_at = epoch + 1;
-	t->policy = TREAD(btf, p, policy);
-	t->rt_prio = TREAD(btf, p, rt_priority);
-	t->ncpus = TREAD(btf, p, nr_cpus_allowed);
-	t->cpus0 = TREAD(btf, p, cpus_mask.bits[0]);
-}
-
 /* on_switch - one thread leaves the CPU, another gets it */
 static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 				     struct task_struct *next, const int btf)
@@ -529,7 +512,6 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 
 		ev = cycle_switch_in(nt, now, cpu, TREAD(btf, next, min_flt),
 				     TREAD(btf, next, maj_flt));
-		note_identity(nt, next, btf);
 		if (ev & CYC_EV_MIGRATE)
 			emit(RTSUP_EV_UNSAFE, nt, now, RTSUP_U_MIGRATE, cpu);
 	}

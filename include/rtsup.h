@@ -145,16 +145,6 @@ struct rtsup_cycle_state {
 /* Per-thread value of the map "threads", keyed by tid. */
 struct rtsup_thread {
 	struct rtsup_cycle_state cs;
-	/*
-	 * Scheduling identity, copied from the task once per interval at a
-	 * switch-in, so userspace needs no syscall per thread and interval.
-	 */
-	__u64 id_at;		/* epoch + 1 when last copied; 0 = never */
-	__u64 cpus0;		/* allowed CPUs 0-63 */
-	__u32 policy;		/* SCHED_* */
-	__u32 rt_prio;		/* 1-99 for FIFO/RR, else 0 */
-	__u32 ncpus;		/* number of allowed CPUs */
-	__u32 id_pad;
 	__u32 tid;
 	__u32 tgid;
 	char comm[RTSUP_COMM_LEN];

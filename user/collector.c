@@ -212,14 +212,9 @@ static void read_cgroup(struct thread_model *tm)
 	fclose(f);
 }
 
-/*
- * refresh_identity - scheduling attributes of a live thread: what the
- * kernel copied at its last switch-in, syscalls only for a thread not yet
- * seen on a CPU or allowed on CPUs beyond 63
- */
+/* refresh_identity - scheduling attributes of a live thread */
 static void refresh_identity(struct thread_model *tm)
 {
-	const struct rtsup_thread *t = &tm->cur;
 	struct sched_param sp;
 
 	if (!tm->pcomm[0]) {
@@ -230,26 +225,17 @@ static void refresh_identity(struct thread_model *tm)
 		read_cgroup(tm);
 	}
 
-	if (t->id_at && t->ncpus == (__u32)__builtin_popcountll(t->cpus0)) {
-		tm->policy = t->policy;
-		tm->prio = t->rt_prio;
-		/* formatted again only when the mask changed */
-		if (tm->cpus_key != t->cpus0 || !tm->cpus[0]) {
-			unsigned long bits[64 / (8 * sizeof(long))];
-
-			memcpy(bits, &t->cpus0, sizeof(bits));
-			cpu_list_mask(bits, 64, tm->cpus, sizeof(tm->cpus));
-			tm->cpus_key = t->cpus0;
-		}
-		return;
-	}
+	/*
+	 * Asked every interval, not copied by the hooks: a thread that changes
+	 * its own policy while it runs would keep a stale copy for a while,
+	 * and the policy check would raise an ERROR that is not true.
+	 */
 	tm->policy = sched_getscheduler(tm->tid);
 	if (tm->policy < 0)
 		return;
 	tm->policy &= ~SCHED_RESET_ON_FORK;
 	tm->prio = sched_getparam(tm->tid, &sp) ? 0 : sp.sched_priority;
 	cpu_list(tm->tid, tm->cpus, sizeof(tm->cpus));
-	tm->cpus_key = 0;
 }
 
 /* idle_in_window - not switched in or out in the interval just read */

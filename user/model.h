@@ -57,7 +57,6 @@ struct thread_model {
 	int policy;		/* -1 when the thread is gone */
 	int prio;
 	char cpus[64];		/* allowed CPUs as a list, e.g. "0-3" */
-	__u64 cpus_key;		/* the kernel's mask 'cpus' was made from */
 	bool alive;
 	bool reported_exit;
 	struct rtsup_thread cur;	/* the last snapshot of the kernel entry */

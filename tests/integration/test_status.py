@@ -76,7 +76,7 @@ def test_check_faults_exit_2_with_messages(tmp_path):
     assert "mmap 1" in what[prefix + "-0"] and "munmap 1" in what[prefix + "-0"]
     assert "minor_fault 2" in what[prefix + "-1"]
     levels = {v["level"] for v in summary["violations"]}
-    assert levels == {"WARN"}
+    assert levels == {"WARN"}, summary["violations"]
     # the level change was logged on stderr: time, component, old -> new, why
     assert "%s-0[" % prefix in err and ": OK -> WARN: RT-unsafe" in err
     # --fail-on error ignores WARN

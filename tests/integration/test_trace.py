@@ -148,7 +148,7 @@ def _tid_named(pid, comm, timeout=30):
 
 @pytest.mark.skipif(os.cpu_count() < 2, reason="needs two CPUs to move a thread")
 def test_policy_and_affinity_changes_are_seen(tmp_path):
-    # the kernel copies policy, priority and CPUs once per cycle: a chrt or
+    # policy, priority and CPUs are asked every interval: a chrt or
     # taskset on a running thread shows in the following intervals
     prefix = unique_prefix()
     tr = Trace(["-i", "200ms", "--comm=%s-0" % prefix])
