@@ -164,24 +164,36 @@ static __always_inline void zero_mem(void *p, __u32 n)
 		bpf_probe_read_kernel(p, n, tmpl);
 }
 
+/* tid_bit - the thread's bit in one of the tid bitmaps (tidmask, wakemask) */
+static __always_inline int tid_bit(const __u64 *mask, __u32 tid)
+{
+	return (mask[RTSUP_TIDMASK_WORD(tid)] & RTSUP_TIDMASK_BIT(tid)) != 0;
+}
+
+/* tid_bit_set - set it (atomic: other CPUs set other bits of the word) */
+static __always_inline void tid_bit_set(__u64 *mask, __u32 tid)
+{
+	__sync_fetch_and_or(&mask[RTSUP_TIDMASK_WORD(tid)], RTSUP_TIDMASK_BIT(tid));
+}
+
 /* maybe_target - may this thread be in "threads"? No: return at once */
 static __always_inline int maybe_target(__u32 tid)
 {
-	return (tidmask[RTSUP_TIDMASK_WORD(tid)] & RTSUP_TIDMASK_BIT(tid)) != 0;
+	return tid_bit(tidmask, tid);
 }
 
 /* note_wake - keep the thread's wakemask bit equal to cycle_wakeup_read() */
 static __always_inline void note_wake(const struct rtsup_thread *t)
 {
-	__u64 *w = &wakemask[RTSUP_TIDMASK_WORD(t->tid)], bit = RTSUP_TIDMASK_BIT(t->tid);
 	int want = !t->exited && cycle_wakeup_read(t);
 
-	if (!!(*w & bit) == want)
+	if (tid_bit(wakemask, t->tid) == want)
 		return;
 	if (want)
-		__sync_fetch_and_or(w, bit);
+		tid_bit_set(wakemask, t->tid);
 	else
-		__sync_fetch_and_and(w, ~bit);
+		__sync_fetch_and_and(&wakemask[RTSUP_TIDMASK_WORD(t->tid)],
+				     ~RTSUP_TIDMASK_BIT(t->tid));
 }
 
 /* lookup_thread - the thread's entry, NULL for every thread that is no target */
@@ -291,9 +303,9 @@ static __always_inline struct rtsup_thread *add_thread(struct task_struct *task,
 	tmpl = bpf_map_lookup_elem(&zero_thread, &zero);
 	if (!tmpl)
 		return NULL;
-	__sync_fetch_and_or(&tidmask[RTSUP_TIDMASK_WORD(tid)], RTSUP_TIDMASK_BIT(tid));
+	tid_bit_set(tidmask, tid);
 	/* a new thread's wakeups are read until it shows a delimiter */
-	__sync_fetch_and_or(&wakemask[RTSUP_TIDMASK_WORD(tid)], RTSUP_TIDMASK_BIT(tid));
+	tid_bit_set(wakemask, tid);
 	err = bpf_map_update_elem(&threads, &tid, tmpl, BPF_NOEXIST);
 	if (err && err != -EEXIST) {
 		count(RTSUP_C_MAP_FULL);
@@ -525,7 +537,7 @@ static __always_inline int on_wakeup(struct task_struct *p, const int btf)
 	struct rtsup_thread *t;
 
 	/* no target, or one whose wakeup time nobody reads: one load */
-	if (!(wakemask[RTSUP_TIDMASK_WORD(tid)] & RTSUP_TIDMASK_BIT(tid)))
+	if (!tid_bit(wakemask, tid))
 		return 0;
 	t = bpf_map_lookup_elem(&threads, &tid);
 	if (t && cycle_wakeup_read(t))

@@ -79,6 +79,13 @@ static int on_cycle_rec(void *ctx, void *data, size_t len)
 }
 
 /* add_initial - a thread found by the start-up scan goes into the maps */
+/* tid_bit_set - set a thread's bit in a tid bitmap the hooks read */
+static void tid_bit_set(__u64 *mask, __u32 tid)
+{
+	__atomic_fetch_or(&mask[RTSUP_TIDMASK_WORD(tid)], RTSUP_TIDMASK_BIT(tid),
+			  __ATOMIC_SEQ_CST);
+}
+
 static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, bool process)
 {
 	struct collector *c = ctx;
@@ -93,11 +100,9 @@ static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, bool 
 	if (process)
 		bpf_map_update_elem(bpf_map__fd(c->skel->maps.tgids), &k, &one, BPF_ANY);
 	/* the hooks look a thread up only when its bit is set (rtsup.h) */
-	__atomic_fetch_or(&c->skel->bss->tidmask[RTSUP_TIDMASK_WORD(key)],
-			  RTSUP_TIDMASK_BIT(key), __ATOMIC_SEQ_CST);
+	tid_bit_set(c->skel->bss->tidmask, key);
 	/* and read its wakeups until it shows a delimiter (rtsup.bpf.c) */
-	__atomic_fetch_or(&c->skel->bss->wakemask[RTSUP_TIDMASK_WORD(key)],
-			  RTSUP_TIDMASK_BIT(key), __ATOMIC_SEQ_CST);
+	tid_bit_set(c->skel->bss->wakemask, key);
 	/* the kernel may have added it since attach: keep its entry */
 	if (bpf_map_update_elem(bpf_map__fd(c->skel->maps.threads), &key, t, BPF_NOEXIST) &&
 	    errno != EEXIST) {
@@ -271,7 +276,6 @@ static int take(struct collector *c, __u32 tid, const struct rtsup_thread *t)
 			return -ENOMEM;
 	}
 	model_set(tm, t, c->bank);
-	tm->sampled = true;
 	tm->tgid = t->tgid;
 	memcpy(tm->comm, t->comm, RTSUP_COMM_LEN);
 	tm->comm[RTSUP_COMM_LEN - 1] = '\0';
@@ -364,7 +368,6 @@ static int read_threads(struct collector *c)
 
 int collector_sample(struct collector *c)
 {
-	struct thread_model *tm;
 	int i, err;
 
 	/* new interval: the kernel writes the other min/max bank from now on */
@@ -372,19 +375,14 @@ int collector_sample(struct collector *c)
 	c->skel->bss->epoch++;
 	update_clocks(c);
 	collector_poll(c, 0);
+	/* a thread not in the map any more (reaped) had an empty interval */
 	for (i = 0; i < c->model.n; i++) {
 		c->model.t[i].alive = false;
-		c->model.t[i].sampled = false;
+		model_idle(&c->model.t[i]);
 	}
 	err = read_threads(c);
 	if (err)
 		fprintf(stderr, "rtsup-trace: reading the thread map: %s\n", strerror(-err));
-	/* not in the map any more (reaped): nothing happened this interval */
-	for (i = 0; i < c->model.n; i++) {
-		tm = &c->model.t[i];
-		if (!tm->sampled)
-			model_idle(tm);
-	}
 	read_unsafe_sys(c);
 	read_counters(c);
 	return err;

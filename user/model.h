@@ -66,7 +66,6 @@ struct thread_model {
 	 */
 	struct span_view win;
 	struct span_view life;
-	bool sampled;			/* a snapshot came this interval */
 	bool judged;			/* supervised in an earlier interval */
 	struct rtsup_thread *snap;	/* replay only: cur at the last interval */
 	int nsys;
