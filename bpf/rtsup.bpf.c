@@ -134,12 +134,21 @@ struct {
 	__type(value, struct rtsup_can_id);
 } can_ids SEC(".maps");
 
+/* Interfaces whose ifindex has no slot in can_if_slot (below). */
 struct {
 	__uint(type, BPF_MAP_TYPE_HASH);
 	__uint(max_entries, 64);
 	__type(key, __u32);
 	__type(value, struct rtsup_can_if);
 } can_ifs SEC(".maps");
+
+/*
+ * Per-interface counters by ifindex, for the small ifindexes CAN interfaces
+ * have: a global array is a plain address, where a hash lookup per frame
+ * (tx and its echo) cost as much as the rest of the accounting. Userspace
+ * reads it through the skeleton's mapping of .bss.
+ */
+struct rtsup_can_if can_if_slot[RTSUP_CAN_IF_SLOTS];
 
 struct {
 	__uint(type, BPF_MAP_TYPE_ARRAY);
@@ -637,6 +646,16 @@ static __always_inline void *lookup_or_add(void *map, const void *key, const voi
 	return bpf_map_lookup_elem(map, key);
 }
 
+/* can_if_get - the counters of an interface, created on first use */
+static __always_inline struct rtsup_can_if *can_if_get(__u32 ifindex)
+{
+	struct rtsup_can_if zif = {};
+
+	if (ifindex < RTSUP_CAN_IF_SLOTS)
+		return &can_if_slot[ifindex];
+	return lookup_or_add(&can_ifs, &ifindex, &zif);
+}
+
 /* can_if_wanted - is this one of the --can interfaces? */
 static __always_inline int can_if_wanted(__u32 ifindex)
 {
@@ -666,14 +685,20 @@ static __always_inline void can_sdo_response(struct rtsup_can_id *v, __u32 ifind
 	}
 }
 
+/*
+ * SREAD - a field of the sk_buff argument, like TREAD: a plain load in
+ * tp_btf programs (each bpf_probe_read is a helper call, per frame).
+ */
+#define SREAD(btf, s, f) ((btf) ? (s)->f : BPF_CORE_READ(s, f))
+
 /* on_can - one SocketCAN frame leaving (tx) or arriving (rx) */
-static __always_inline int on_can(const struct sk_buff *skb, __u32 dir)
+static __always_inline int on_can(const struct sk_buff *skb, __u32 dir, const int btf)
 {
-	__u16 proto = bpf_ntohs(BPF_CORE_READ(skb, protocol));
+	__u16 proto = bpf_ntohs(SREAD(btf, skb, protocol));
 	struct rtsup_can_key key = { .dir = dir };
 	struct rtsup_canxl_head xl;
 	struct rtsup_can_frame f;
-	struct rtsup_can_if *ifs, zif = {};
+	struct rtsup_can_if *ifs;
 	struct rtsup_can_id *v;
 	__u32 kind, zero = 0, tid, id, len;
 	struct rtsup_thread *t;
@@ -683,12 +708,27 @@ static __always_inline int on_can(const struct sk_buff *skb, __u32 dir)
 	/* anything but CAN costs this one compare */
 	if ((__u16)(proto - RTSUP_ETH_P_CAN) > RTSUP_ETH_P_CANXL - RTSUP_ETH_P_CAN)
 		return 0;
-	key.ifindex = BPF_CORE_READ(skb, dev, ifindex);
+	key.ifindex = btf ? skb->dev->ifindex : BPF_CORE_READ(skb, dev, ifindex);
 	if (!can_if_wanted(key.ifindex))
 		return 0;
+	ifs = can_if_get(key.ifindex);
+	if (!ifs)
+		return 0;
+	/*
+	 * af_can (can_send) and echo-capable drivers (can_put_echo_skb) loop our
+	 * own sends back as rx, PACKET_BROADCAST like a frame from the bus, but
+	 * still owned by the sending socket: a frame from the bus has no skb->sk.
+	 * Tested before the frame is read: an echo costs no more than this.
+	 */
+	if (dir == RTSUP_CAN_RX && (SREAD(btf, skb, sk) ||
+	    (btf ? BPF_CORE_READ_BITFIELD(skb, pkt_type) :
+		   BPF_CORE_READ_BITFIELD_PROBED(skb, pkt_type)) == PACKET_LOOPBACK)) {
+		__sync_fetch_and_add(&ifs->loopback, 1);
+		return 0;
+	}
 	now = bpf_ktime_get_ns();
 	kind = proto - RTSUP_ETH_P_CAN;
-	data = BPF_CORE_READ(skb, data);
+	data = SREAD(btf, skb, data);
 	if (kind == RTSUP_CAN_XL) {
 		if (bpf_probe_read_kernel(&xl, sizeof(xl), data))
 			return 0;
@@ -701,25 +741,14 @@ static __always_inline int on_can(const struct sk_buff *skb, __u32 dir)
 			return 0;
 		len = f.len;
 	}
-	ifs = lookup_or_add(&can_ifs, &key.ifindex, &zif);
-	if (!ifs)
-		return 0;
-	/*
-	 * af_can (can_send) and echo-capable drivers (can_put_echo_skb) loop our
-	 * own sends back as rx, PACKET_BROADCAST like a frame from the bus, but
-	 * still owned by the sending socket: a frame from the bus has no skb->sk
-	 */
-	if (dir == RTSUP_CAN_RX && (BPF_CORE_READ(skb, sk) ||
-	    BPF_CORE_READ_BITFIELD_PROBED(skb, pkt_type) == PACKET_LOOPBACK)) {
-		__sync_fetch_and_add(&ifs->loopback, 1);
-		return 0;
-	}
 	can_if_account(ifs, now, dir, f.can_id, len, kind, f.data);
 	if (f.can_id & RTSUP_CAN_ERR_FLAG)
 		return 0;
 	id = can_key_id(f.can_id);
 	key.can_id = id;
-	v = lookup_or_add(&can_ids, &key, bpf_map_lookup_elem(&zero_can, &zero));
+	v = bpf_map_lookup_elem(&can_ids, &key);
+	if (!v)	/* a new identifier: the zero template only now */
+		v = lookup_or_add(&can_ids, &key, bpf_map_lookup_elem(&zero_can, &zero));
 	if (!v) {
 		count(RTSUP_C_CAN_FULL);
 		return 0;
@@ -732,7 +761,7 @@ static __always_inline int on_can(const struct sk_buff *skb, __u32 dir)
 	/* the sending thread and where in its cycle it sent */
 	tid = (__u32)bpf_get_current_pid_tgid();
 	v->tx_tid = tid;
-	t = bpf_map_lookup_elem(&threads, &tid);
+	t = lookup_thread(tid);
 	if (t && t->cs.start && !t->cs.in_delim && now >= t->cs.start) {
 		v->tx_in_cycle++;
 		v->tx_offset_sum += now - t->cs.start;
@@ -783,17 +812,17 @@ SEC(kind "/signal_deliver")							\
 int BPF_PROG(signal_deliver_##sfx, int sig)					\
 { return BODY(on_signal(sig)); }
 
-#define RTSUP_CAN_PROGS(kind, sfx)						\
+#define RTSUP_CAN_PROGS(kind, sfx, btf)						\
 SEC(kind "/net_dev_start_xmit")							\
 int BPF_PROG(can_xmit_##sfx, const struct sk_buff *skb)				\
-{ return BODY(on_can(skb, RTSUP_CAN_TX)); }					\
+{ return BODY(on_can(skb, RTSUP_CAN_TX, btf)); }				\
 SEC(kind "/netif_receive_skb")							\
 int BPF_PROG(can_recv_##sfx, const struct sk_buff *skb)				\
-{ return BODY(on_can(skb, RTSUP_CAN_RX)); }
+{ return BODY(on_can(skb, RTSUP_CAN_RX, btf)); }
 
 RTSUP_PROGS("tp_btf", btf, 1)
 RTSUP_PROGS("raw_tp", raw, 0)
-RTSUP_CAN_PROGS("tp_btf", btf)
-RTSUP_CAN_PROGS("raw_tp", raw)
+RTSUP_CAN_PROGS("tp_btf", btf, 1)
+RTSUP_CAN_PROGS("raw_tp", raw, 0)
 
 char LICENSE[] SEC("license") = "Dual BSD/GPL";

@@ -89,7 +89,9 @@ struct rtsup_can_id {
 	struct rtsup_metric_stats gap;	/* time since the previous frame of this key */
 };
 
-/* Per interface (map "can_ifs", by ifindex). */
+/* Per interface: array can_if_slot by ifindex, map "can_ifs" above that. */
+#define RTSUP_CAN_IF_SLOTS	256
+
 struct rtsup_can_if {
 	__u64 frames[RTSUP_CAN_DIRS];
 	__u64 bytes[RTSUP_CAN_DIRS];

@@ -10,6 +10,7 @@
 #include <netlink/route/link.h>
 #include <netlink/route/link/can.h>
 #include "cancollect.h"
+#include "can.h"	/* the skeleton's .bss holds can_if_slot */
 #include "rtsup.skel.h"
 
 int can_resolve(struct options *o)
@@ -44,34 +45,53 @@ __u64 can_bitrate(__u32 ifindex)
 	return rate;
 }
 
-/* read_ifs - per-interface counters; names and bitrates when first seen */
-static void read_ifs(struct can_model *m, int fd, const struct options *o,
+/* take_if - one interface's counters; its name and bitrate when first seen */
+static void take_if(struct can_model *m, __u32 ifindex, const struct rtsup_can_if *v,
+		    const struct options *o, const struct config *cfg)
+{
+	struct can_iface *f = can_iface_get(m, ifindex, true);
+
+	if (!f)
+		return;
+	if (!f->cur.frames[0] && !f->cur.frames[1] && !f->have_prev) {
+		char name[IF_NAMESIZE];
+
+		if (if_indextoname(ifindex, name))
+			snprintf(f->name, sizeof(f->name), "%s", name);
+		f->bitrate = can_bitrate(ifindex);
+	}
+	if (o->can_bitrate)
+		f->bitrate = o->can_bitrate;
+	else if (!f->bitrate)
+		f->bitrate = cfg->can.bitrate;
+	f->cur = *v;
+}
+
+/* can_if_seen - has the kernel counted anything on this slot? */
+static bool can_if_seen(const struct rtsup_can_if *v)
+{
+	return v->frames[0] || v->frames[1] || v->loopback || v->err_frames;
+}
+
+/* read_ifs - per-interface counters: the .bss slots, then the map */
+static void read_ifs(struct can_model *m, struct rtsup_bpf *skel, const struct options *o,
 		     const struct config *cfg)
 {
+	int fd = bpf_map__fd(skel->maps.can_ifs);
 	__u32 key, next, *prev = NULL;
 	struct rtsup_can_if v;
-	struct can_iface *f;
 
+	for (key = 0; key < RTSUP_CAN_IF_SLOTS; key++) {
+		/* the kernel writes while we copy: each counter is one aligned word */
+		v = skel->bss->can_if_slot[key];
+		if (can_if_seen(&v))
+			take_if(m, key, &v, o, cfg);
+	}
 	while (!bpf_map_get_next_key(fd, prev, &next)) {
 		key = next;
 		prev = &key;
-		if (bpf_map_lookup_elem(fd, &key, &v))
-			continue;
-		f = can_iface_get(m, key, true);
-		if (!f)
-			continue;
-		if (!f->cur.frames[0] && !f->cur.frames[1] && !f->have_prev) {
-			char name[IF_NAMESIZE];
-
-			if (if_indextoname(key, name))
-				snprintf(f->name, sizeof(f->name), "%s", name);
-			f->bitrate = can_bitrate(key);
-		}
-		if (o->can_bitrate)
-			f->bitrate = o->can_bitrate;
-		else if (!f->bitrate)
-			f->bitrate = cfg->can.bitrate;
-		f->cur = v;
+		if (!bpf_map_lookup_elem(fd, &key, &v))
+			take_if(m, key, &v, o, cfg);
 	}
 }
 
@@ -87,7 +107,7 @@ void can_collect(struct can_model *m, struct rtsup_bpf *skel, const struct optio
 		return;
 	/* the map is written by the kernel only and never reset from here, so
 	 * every frame is counted once whatever the interval */
-	read_ifs(m, bpf_map__fd(skel->maps.can_ifs), o, cfg);
+	read_ifs(m, skel, o, cfg);
 	while (!bpf_map_get_next_key(fd, prev, &next)) {
 		key = next;
 		prev = &key;

@@ -15,6 +15,7 @@
 #include "targets.h"
 #include "syscalls.h"
 #include "supervise.h"
+#include "can.h"	/* the skeleton's .bss holds can_if_slot */
 #include "rtsup.skel.h"
 
 __u64 mono_now(void)

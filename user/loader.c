@@ -16,6 +16,7 @@
 #include <bpf/libbpf.h>
 #include "loader.h"
 #include "rtsup.h"
+#include "can.h"	/* the skeleton's .bss holds can_if_slot */
 #include "rtsup.skel.h"
 #include "rtsup_empty.skel.h"
 

@@ -11,6 +11,7 @@
 #include <bpf/libbpf.h>
 #include "collector.h"
 #include "unit.h"
+#include "can.h"	/* the skeleton's .bss holds can_if_slot */
 #include "rtsup.skel.h"
 
 #define CGROUP_ROOT "/sys/fs/cgroup"

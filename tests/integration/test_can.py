@@ -102,6 +102,30 @@ cangen vcan0 -I 456 -L 0 -R -g 2 -n 20
     assert gap["count"] == 199 and gap["min"] > 0
 
 
+
+def test_interface_with_a_large_ifindex(vm):
+    """Interfaces below ifindex 256 are counted in a plain array, the others
+    in a hash map: both are read, named and counted the same."""
+    code, out, err, o = vm("""
+ip link add dev vcan0 type vcan
+ip link add dev vcanhi index 300 type vcan
+ip link set up vcan0
+ip link set up vcanhi
+set -- vcan0 --can vcanhi -i 500ms
+""" + START + """
+cangen vcan0 -I 123 -L 8 -g 2 -n 100
+cangen vcanhi -I 124 -L 4 -g 2 -n 60
+""" + STOP)
+    assert code == 0, err
+    _, s = summary_of(o / "trace.json")
+    ids, ifs = can_ids(s), can_ifs(s)
+    assert ids[("vcan0", "0x123", "tx")]["frames"] == 100
+    assert ids[("vcanhi", "0x124", "tx")]["frames"] == 60
+    assert ifs["vcan0"]["frames_tx"] == 100 and ifs["vcan0"]["loopback"] == 100
+    assert ifs["vcanhi"]["frames_tx"] == 60 and ifs["vcanhi"]["loopback"] == 60
+    assert ifs["vcanhi"]["bytes"] == 60 * 4
+
+
 FLOOD = 200000
 
 
