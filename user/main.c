@@ -26,6 +26,7 @@
 #include "sinks.h"
 #include "supervise.h"
 #include "targets.h"
+#include "can.h"	/* the skeleton's .bss holds can_if_slot */
 #include "rtsup.skel.h"
 
 static volatile sig_atomic_t exiting, reload;
@@ -131,36 +132,51 @@ static pid_t spawn_cmd(char **cmd, int *go_fd)
 
 /* self_in - what the supervisor knows about itself this interval */
 /*
- * The overhead check samples: BPF statistics are on for one interval in
- * OVERHEAD_EVERY (the first one included), and the last measure holds in
+ * The overhead check samples: BPF statistics are on for a short window
+ * (OVERHEAD_WINDOW, at most an interval) at the start of one interval in
+ * OVERHEAD_EVERY, the first one included, and the last measure holds in
  * between. Always on, they cost every BPF program on the machine two clock
- * reads per run (docs/performance.md).
+ * reads per run (docs/performance.md): sampled, 100 ms in 30 s at the default
+ * 1 s interval, a third of a percent of that.
  */
 #define OVERHEAD_EVERY 30
+#define OVERHEAD_WINDOW 100000000ULL	/* ns */
 
 struct overhead {
-	long long last_rt;	/* run time at the start of the window, -1 = off */
+	long long rt0;		/* run time when the window opened, -1 = closed */
+	__u64 t0, end;		/* when the window opened, when it closes */
 	double pct;		/* the last measure, -1 = none yet */
 	unsigned int n;		/* intervals so far */
 };
 
-/* overhead_interval - close a sampling window, maybe open the next one */
-static double overhead_interval(struct overhead *ov, struct loader *l, const struct options *o,
-				double elapsed)
+/* overhead_close - close the open window once it is due (or now, 'force') */
+static void overhead_close(struct overhead *ov, struct loader *l, __u64 now, bool force)
 {
 	long long rt;
 
+	if (ov->rt0 < 0 || (!force && now < ov->end))
+		return;
+	rt = loader_run_time(l);
+	if (rt >= 0 && now > ov->t0)
+		ov->pct = (rt - ov->rt0) / (double)(now - ov->t0) * 100;
+	loader_stats(l, false);
+	ov->rt0 = -1;
+}
+
+/* overhead_interval - an interval begins: maybe open a window; the last measure */
+static double overhead_interval(struct overhead *ov, struct loader *l, const struct options *o,
+				__u64 now, bool last)
+{
+	__u64 len = (__u64)(o->interval * 1e9);
+
 	if (o->no_overhead)
 		return -1;
-	if (ov->last_rt >= 0) {
-		rt = loader_run_time(l);
-		if (rt >= 0 && elapsed > 0)
-			ov->pct = (rt - ov->last_rt) / (elapsed * 1e9) * 100;
-		loader_stats(l, false);
-		ov->last_rt = -1;
+	overhead_close(ov, l, now, true);
+	if (!last && ov->n++ % OVERHEAD_EVERY == 0 && !loader_stats(l, true)) {
+		ov->rt0 = loader_run_time(l);
+		ov->t0 = now;
+		ov->end = now + (len < OVERHEAD_WINDOW ? len : OVERHEAD_WINDOW);
 	}
-	if (ov->n++ % OVERHEAD_EVERY == 0 && !loader_stats(l, true))
-		ov->last_rt = loader_run_time(l);
 	return ov->pct;
 }
 
@@ -213,7 +229,7 @@ static int run_live(struct options *o, struct supervisor *s)
 	struct self_in self;
 	struct can_model cm;
 	__u64 start, next, last, now, end = 0, last_drops = 0;
-	struct overhead ov = { .last_rt = -1, .pct = -1 };
+	struct overhead ov = { .rt0 = -1, .pct = -1 };
 	pid_t child = -1;
 	int go_fd = -1, status = 0, err = 1;
 	enum level worst = LEVEL_OK;
@@ -255,7 +271,7 @@ static int run_live(struct options *o, struct supervisor *s)
 	if (robot_start(&rb, &c, s))
 		goto out;
 	start = last = mono_now();
-	overhead_interval(&ov, &l, o, 0);	/* the first window: the first interval */
+	overhead_interval(&ov, &l, o, start, false);	/* the first window */
 	next = start + (__u64)(o->interval * 1e9);
 	if (o->duration)
 		end = start + (__u64)(o->duration * 1e9);
@@ -272,10 +288,14 @@ static int run_live(struct options *o, struct supervisor *s)
 		}
 		if (child > 0 && waitpid(child, &status, WNOHANG) == child)
 			child_done = true;
+		overhead_close(&ov, &l, now, false);
 		if (now < next && !child_done) {
 			__u64 until = end && end < next ? end : next;
-			int ms = (until - now) / 1000000 + 1;
+			int ms;
 
+			if (ov.rt0 >= 0 && ov.end < until)
+				until = ov.end;
+			ms = (until - now) / 1000000 + 1;
 			if (collector_poll(&c, ms > 100 ? 100 : ms) < 0)
 				break;
 			continue;
@@ -283,8 +303,7 @@ static int run_live(struct options *o, struct supervisor *s)
 		collector_sample(&c);
 		s->real_off = c.real_off;
 		sample_can(o, s, &l, &c);
-		self_in(&self, &c, s, overhead_interval(&ov, &l, o, (now - last) / 1e9),
-			&last_drops);
+		self_in(&self, &c, s, overhead_interval(&ov, &l, o, now, false), &last_drops);
 		supervise_interval(s, &c.model, c.bank, &self, now);
 		supervise_can(s, now, (now - last) / 1e9);
 		output_interval(&c, s, (now - start) / 1e9, (now - last) / 1e9);
@@ -311,7 +330,7 @@ static int run_live(struct options *o, struct supervisor *s)
 	now = mono_now();
 	collector_sample(&c);
 	sample_can(o, s, &l, &c);
-	self_in(&self, &c, s, overhead_interval(&ov, &l, o, (now - last) / 1e9), &last_drops);
+	self_in(&self, &c, s, overhead_interval(&ov, &l, o, now, true), &last_drops);
 	supervise_interval(s, &c.model, c.bank, &self, now);
 	supervise_can(s, now, (now - last) / 1e9);
 	/* the last, partial interval: the intervals add up to the summary */
