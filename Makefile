@@ -17,7 +17,7 @@ UNITDIR  ?= $(PREFIX)/lib/systemd/system
 CFLAGS   ?= -O2 -g
 WARN     := -Wall -Wextra -Wno-unused-parameter
 INCLUDES := -Iinclude -I$(OUT) -I/usr/include/libnl3
-USER_LIBS := -lbpf -lelf -lz -ljansson -lyaml -lnl-route-3 -lnl-3 -lsystemd -lmicrohttpd -lpthread
+USER_LIBS := -lbpf -lelf -lz -ljansson -lyaml -lnl-route-3 -lnl-3 -lsystemd -lpthread
 CPPFLAGS += -D_GNU_SOURCE -MMD -MP
 
 ifeq ($(V),1)
@@ -107,7 +107,7 @@ UNIT_DEPS_test_prom := user/prom.c user/model.c user/status.c user/syscalls.c
 UNIT_DEPS_test_service := user/service.c user/status.c
 UNIT_LIBS_test_service := -lsystemd
 UNIT_DEPS_test_promexp := user/promexp.c
-UNIT_LIBS_test_promexp := -lmicrohttpd -lpthread
+UNIT_LIBS_test_promexp := -lpthread
 UNIT_DEPS_test_canmodel := user/canmodel.c user/model.c user/status.c user/config.c user/syscalls.c
 UNIT_LIBS_test_canmodel := -lyaml
 .SECONDEXPANSION:

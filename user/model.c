@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
 /* model.c - per-thread model: snapshots, interval deltas, percentiles */
 #include <math.h>
+#include <malloc.h>
 #include <stdlib.h>
 #include <string.h>
 #include "model.h"
@@ -205,6 +206,12 @@ struct thread_model *model_get(struct model *m, __u32 tid, bool create)
 			return NULL;
 		m->t = t;
 		m->cap = cap;
+		/*
+		 * glibc raises its mmap threshold when a big block is freed, so the
+		 * arrays outgrown on the way stay in the heap, free but resident:
+		 * 4.9 MiB at 1000 threads. Growing is rare; give them back.
+		 */
+		malloc_trim(0);
 	}
 	memmove(&m->t[pos + 1], &m->t[pos], (m->n - pos) * sizeof(*m->t));
 	m->n++;

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
 /* promexp.c - node_exporter textfile and HTTP /metrics (libmicrohttpd) */
+#include <dlfcn.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <netdb.h>
@@ -11,6 +12,53 @@
 #include "promexp.h"
 
 #define CONTENT_TYPE "text/plain; version=0.0.4; charset=utf-8"
+
+/*
+ * libmicrohttpd is opened only for --listen: linked, it loads GnuTLS,
+ * p11-kit, nettle and gmp into every run, 2.3 MiB resident that a robot
+ * without an HTTP endpoint pays for nothing (docs/performance.md).
+ */
+#define MHD_SONAME "libmicrohttpd.so.12"
+
+static struct {
+	void *h;
+	__typeof__(MHD_start_daemon) *start_daemon;
+	__typeof__(MHD_stop_daemon) *stop_daemon;
+	__typeof__(MHD_create_response_from_buffer) *response_from_buffer;
+	__typeof__(MHD_add_response_header) *add_response_header;
+	__typeof__(MHD_queue_response) *queue_response;
+	__typeof__(MHD_destroy_response) *destroy_response;
+} mhd;
+
+/* mhd_load - the library and its six functions; one line on stderr, -1 */
+static int mhd_load(const char *listen)
+{
+	void *h;
+
+	if (mhd.h)
+		return 0;
+	h = dlopen(MHD_SONAME, RTLD_NOW | RTLD_LOCAL);
+	if (!h) {
+		fprintf(stderr, "rtsup-trace: --listen '%s' needs %s (Debian: apt install "
+			"libmicrohttpd12): %s\n", listen, MHD_SONAME, dlerror());
+		return -1;
+	}
+	*(void **)&mhd.start_daemon = dlsym(h, "MHD_start_daemon");
+	*(void **)&mhd.stop_daemon = dlsym(h, "MHD_stop_daemon");
+	*(void **)&mhd.response_from_buffer = dlsym(h, "MHD_create_response_from_buffer");
+	*(void **)&mhd.add_response_header = dlsym(h, "MHD_add_response_header");
+	*(void **)&mhd.queue_response = dlsym(h, "MHD_queue_response");
+	*(void **)&mhd.destroy_response = dlsym(h, "MHD_destroy_response");
+	if (!mhd.start_daemon || !mhd.stop_daemon || !mhd.response_from_buffer ||
+	    !mhd.add_response_header || !mhd.queue_response || !mhd.destroy_response) {
+		fprintf(stderr, "rtsup-trace: --listen '%s': %s lacks a function rtsup-trace "
+			"calls\n", listen, MHD_SONAME);
+		dlclose(h);
+		return -1;
+	}
+	mhd.h = h;
+	return 0;
+}
 
 int promexp_parse_listen(const char *spec, struct sockaddr_storage *ss, socklen_t *len,
 			 char *err, size_t errlen)
@@ -73,27 +121,27 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
 	unsigned int code = MHD_HTTP_OK;
 
 	if (strcmp(method, "GET") && strcmp(method, "HEAD")) {
-		r = MHD_create_response_from_buffer(0, (void *)"", MHD_RESPMEM_PERSISTENT);
+		r = mhd.response_from_buffer(0, (void *)"", MHD_RESPMEM_PERSISTENT);
 		code = MHD_HTTP_METHOD_NOT_ALLOWED;
 	} else if (!strcmp(url, "/metrics")) {
 		pthread_mutex_lock(&e->lock);
-		r = MHD_create_response_from_buffer(e->snap_len, e->snap ? e->snap : (void *)"",
+		r = mhd.response_from_buffer(e->snap_len, e->snap ? e->snap : (void *)"",
 						    MHD_RESPMEM_MUST_COPY);
 		pthread_mutex_unlock(&e->lock);
 		if (r)
-			MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, CONTENT_TYPE);
+			mhd.add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, CONTENT_TYPE);
 	} else if (!strcmp(url, "/")) {
-		r = MHD_create_response_from_buffer(sizeof(index) - 1, (void *)index,
+		r = mhd.response_from_buffer(sizeof(index) - 1, (void *)index,
 						    MHD_RESPMEM_PERSISTENT);
 	} else {
-		r = MHD_create_response_from_buffer(10, (void *)"not found\n",
+		r = mhd.response_from_buffer(10, (void *)"not found\n",
 						    MHD_RESPMEM_PERSISTENT);
 		code = MHD_HTTP_NOT_FOUND;
 	}
 	if (!r)
 		return MHD_NO;
-	ret = MHD_queue_response(conn, code, r);
-	MHD_destroy_response(r);
+	ret = mhd.queue_response(conn, code, r);
+	mhd.destroy_response(r);
 	return ret;
 }
 
@@ -119,7 +167,9 @@ int promexp_open(struct promexp *e, const char *textfile, const char *listen)
 		fprintf(stderr, "rtsup-trace: --listen '%s': %s\n", listen, err);
 		return -1;
 	}
-	e->mhd = MHD_start_daemon(MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_ERROR_LOG |
+	if (mhd_load(listen))
+		return -1;
+	e->mhd = mhd.start_daemon(MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_ERROR_LOG |
 				  (ss.ss_family == AF_INET6 ? MHD_USE_IPv6 : 0),
 				  0, NULL, NULL, on_request, e,
 				  MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&ss,
@@ -199,7 +249,7 @@ void promexp_update(struct promexp *e, const char *text, size_t len)
 void promexp_close(struct promexp *e)
 {
 	if (e->mhd)
-		MHD_stop_daemon(e->mhd);
+		mhd.stop_daemon(e->mhd);
 	e->mhd = NULL;
 	if (e->textfile)
 		unlink(e->textfile);
