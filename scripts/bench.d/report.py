@@ -409,9 +409,10 @@ def render(r, res, made):
           "(median of %d) | %s |" % (mode, cpu, len(uu), yes(cpu <= T_USER_CPU_PCT)))
         # VmRSS while it runs; VmHWM also holds the start-up, when libbpf parses the
         # kernel's BTF (5.5 MB here) once and frees it
-        a("| userspace, %s output: RSS ≤ 16 MiB | %.1f MiB while running (worst of %d; peak "
-          "%.1f MiB at start-up, while libbpf parses the kernel's BTF) | %s |"
-          % (mode, rss, len(uu), peak, yes(rss <= T_USER_RSS_MIB)))
+        a("| userspace, %s output: RSS ≤ 16 MiB | %.1f MiB while running (worst of %d; "
+          "peak %.1f MiB%s) | %s |"
+          % (mode, rss, len(uu), peak, " at start-up, while libbpf parses the kernel's BTF"
+             if peak > rss + 0.5 else "", yes(rss <= T_USER_RSS_MIB)))
     a("")
     if NOTES.exists():
         a(NOTES.read_text().strip())
