@@ -4,6 +4,7 @@
 loads and measures there too. Emulated time is slow and noisy, so the
 tests run with RTSUP_TEST_EMULATED=1: counts stay exact, timing checks
 are relaxed."""
+import re
 import subprocess
 
 import pytest
@@ -28,5 +29,7 @@ def test_thread_tests_pass_in_guest(kernel):
     tail = "\n".join(r.stdout.splitlines()[-30:])
     assert r.returncode == 0, tail + r.stderr[-2000:]
     assert " passed" in tail and "failed" not in tail
-    # one known skip: the pinned fault run (see test_injected_faults_reported_exactly)
-    assert "1 skipped" in tail or "skipped" not in tail
+    # two known skips: the pinned fault run (see test_injected_faults_reported_exactly)
+    # and the statistics window, which the guest's pinned bpf_stats hide (docs/vm-test.md)
+    m = re.search(r"(\d+) skipped", tail)
+    assert not m or int(m.group(1)) <= 2, tail
