@@ -173,18 +173,6 @@ static __always_inline void zero_mem(void *p, __u32 n)
 		bpf_probe_read_kernel(p, n, tmpl);
 }
 
-/* tid_bit - the thread's bit in one of the tid bitmaps (tidmask, wakemask) */
-static __always_inline int tid_bit(const __u64 *mask, __u32 tid)
-{
-	return (mask[RTSUP_TIDMASK_WORD(tid)] & RTSUP_TIDMASK_BIT(tid)) != 0;
-}
-
-/* tid_bit_set - set it (atomic: other CPUs set other bits of the word) */
-static __always_inline void tid_bit_set(__u64 *mask, __u32 tid)
-{
-	__sync_fetch_and_or(&mask[RTSUP_TIDMASK_WORD(tid)], RTSUP_TIDMASK_BIT(tid));
-}
-
 /* maybe_target - may this thread be in "threads"? No: return at once */
 static __always_inline int maybe_target(__u32 tid)
 {
@@ -201,8 +189,7 @@ static __always_inline void note_wake(const struct rtsup_thread *t)
 	if (want)
 		tid_bit_set(wakemask, t->tid);
 	else
-		__sync_fetch_and_and(&wakemask[RTSUP_TIDMASK_WORD(t->tid)],
-				     ~RTSUP_TIDMASK_BIT(t->tid));
+		tid_bit_clear(wakemask, t->tid);
 }
 
 /* lookup_thread - the thread's entry, NULL for every thread that is no target */

@@ -10,9 +10,6 @@
 
 #include "rtsup.h"
 
-#ifndef RTSUP_INLINE
-#define RTSUP_INLINE static inline __attribute__((always_inline))
-#endif
 /*
  * A function the BPF side keeps as a subprogram: its branches are verified
  * once per call instead of multiplying with every branch around the call.

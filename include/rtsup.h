@@ -24,6 +24,31 @@
 #define RTSUP_TIDMASK_WORD(tid)	(((tid) >> 6) & (RTSUP_TIDMASK_WORDS - 1))
 #define RTSUP_TIDMASK_BIT(tid)	(1ULL << ((tid) & 63))
 
+/* Userspace inlines; the BPF side defines its own before including this. */
+#ifndef RTSUP_INLINE
+#define RTSUP_INLINE static inline __attribute__((always_inline))
+#endif
+
+/*
+ * tid_bit, tid_bit_set, tid_bit_clear - a thread's bit in a tid bitmap
+ * (tidmask, wakemask). Changed atomically: the hooks on other CPUs and the
+ * collector change other bits of the same word.
+ */
+RTSUP_INLINE int tid_bit(const __u64 *mask, __u32 tid)
+{
+	return (mask[RTSUP_TIDMASK_WORD(tid)] & RTSUP_TIDMASK_BIT(tid)) != 0;
+}
+
+RTSUP_INLINE void tid_bit_set(__u64 *mask, __u32 tid)
+{
+	__sync_fetch_and_or(&mask[RTSUP_TIDMASK_WORD(tid)], RTSUP_TIDMASK_BIT(tid));
+}
+
+RTSUP_INLINE void tid_bit_clear(__u64 *mask, __u32 tid)
+{
+	__sync_fetch_and_and(&mask[RTSUP_TIDMASK_WORD(tid)], ~RTSUP_TIDMASK_BIT(tid));
+}
+
 /* Metrics measured once per cycle. */
 enum rtsup_metric {
 	RTSUP_M_PERIOD,		/* release to release */

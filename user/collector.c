@@ -80,13 +80,6 @@ static int on_cycle_rec(void *ctx, void *data, size_t len)
 }
 
 /* add_initial - a thread found by the start-up scan goes into the maps */
-/* tid_bit_set - set a thread's bit in a tid bitmap the hooks read */
-static void tid_bit_set(__u64 *mask, __u32 tid)
-{
-	__atomic_fetch_or(&mask[RTSUP_TIDMASK_WORD(tid)], RTSUP_TIDMASK_BIT(tid),
-			  __ATOMIC_SEQ_CST);
-}
-
 static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, bool process)
 {
 	struct collector *c = ctx;
