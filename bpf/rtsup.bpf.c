@@ -4,6 +4,9 @@
  *
  * Every hook starts with one lookup of the current (or switched) thread in
  * the map "threads"; a thread that is not a target returns right there.
+ * One exception: the switch-in of a thread sleeping until a requested
+ * release is held in a per-CPU record and applied at the thread's next
+ * event (cycle_switch_in_later), which looks the entry up anyway.
  * Statistics are aggregated here; the ring buffer carries only rare events.
  * Each program exists as tp_btf and as raw_tp: userspace keeps one set.
  */
@@ -31,6 +34,14 @@ static __always_inline void zero_mem(void *p, __u32 n);
  */
 #define TREAD(btf, t, f) ((btf) ? (t)->f : BPF_CORE_READ(t, f))
 
+/* CURRENT - the current task, a BTF pointer (plain loads) in tp_btf programs */
+#define CURRENT(btf) ((btf) ? bpf_get_current_task_btf() : \
+		      (struct task_struct *)bpf_get_current_task())
+
+/* SYSARG - argument n of the syscall being entered, plain load in tp_btf */
+#define SYSARG(btf, regs, n) ((btf) ? PT_REGS_PARM##n##_SYSCALL(regs) : \
+			      PT_REGS_PARM##n##_CORE_SYSCALL(regs))
+
 #define TIMER_ABSTIME	1
 #define SCHED_FIFO	1
 #define SCHED_RR	2
@@ -55,6 +66,7 @@ const volatile char cfg_comms[RTSUP_MAX_COMMS][RTSUP_COMM_LEN];
 
 /* Written by userspace while running. */
 __u32 epoch;			/* flipped every interval */
+__u32 thread_cfg_used;		/* a rule's settings may be in thread_cfg */
 __s64 clock_off[16];		/* clock id -> its offset to CLOCK_MONOTONIC */
 /* Thread ids that may be targets: the hooks' first test, one load (rtsup.h) */
 __u64 tidmask[RTSUP_TIDMASK_WORDS];
@@ -99,6 +111,14 @@ struct {
 	__type(key, struct rtsup_sys_key);
 	__type(value, __u64);
 } unsafe_sys SEC(".maps");
+
+/* A target's switch-in held on its CPU until its next event (cycle.h). */
+struct {
+	__uint(type, BPF_MAP_TYPE_PERCPU_ARRAY);
+	__uint(max_entries, 1);
+	__type(key, __u32);
+	__type(value, struct cycle_switch_rec);
+} switch_rec SEC(".maps");
 
 /* An all-zero thread entry to copy from: too big for the BPF stack. */
 struct {
@@ -205,6 +225,12 @@ static __always_inline void count(__u32 which)
 
 	if (c)
 		(*c)++;
+}
+
+/* thread_cfg_of - a rule's settings for the thread; no lookup while no rule has any */
+static __always_inline struct rtsup_thread_cfg *thread_cfg_of(__u32 tid)
+{
+	return thread_cfg_used ? bpf_map_lookup_elem(&thread_cfg, &tid) : NULL;
 }
 
 /* cfg - the state machine's settings for this event and thread */
@@ -381,18 +407,18 @@ static __always_inline int fd_is_file_or_tty(struct task_struct *task, __u64 fd)
 
 /* sleep_release - requested release of a sleep syscall, 0 if unknown */
 static __always_inline __u64 sleep_release(struct pt_regs *regs, __u32 cls, __u64 now,
-					   int *absolute)
+					   int *absolute, const int btf)
 {
 	struct __kernel_timespec ts;
 	void *req;
 	__u64 clk = 0, flags = 0, ns;
 
 	if (cls & RTSUP_SC_ABSSLEEP) {
-		clk = PT_REGS_PARM1_CORE_SYSCALL(regs);
-		flags = PT_REGS_PARM2_CORE_SYSCALL(regs);
-		req = (void *)PT_REGS_PARM3_CORE_SYSCALL(regs);
+		clk = SYSARG(btf, regs, 1);
+		flags = SYSARG(btf, regs, 2);
+		req = (void *)SYSARG(btf, regs, 3);
 	} else if (cls & RTSUP_SC_RELSLEEP) {
-		req = (void *)PT_REGS_PARM1_CORE_SYSCALL(regs);
+		req = (void *)SYSARG(btf, regs, 1);
 	} else {
 		return 0;
 	}
@@ -405,8 +431,30 @@ static __always_inline __u64 sleep_release(struct pt_regs *regs, __u32 cls, __u6
 	return ns - clock_off[clk & 15];
 }
 
+/* held_switch_in - this CPU's held switch-in record */
+static __always_inline struct cycle_switch_rec *held_switch_in(void)
+{
+	__u32 zero = 0;
+
+	return bpf_map_lookup_elem(&switch_rec, &zero);
+}
+
+/* settle - apply a switch-in held on this CPU for the thread, first thing */
+static __always_inline void settle(struct rtsup_thread *t, struct cycle_switch_rec *r)
+{
+	__u64 ts;
+	__s32 cpu;
+
+	if (!r || r->tid != t->tid)
+		return;
+	ts = r->now;
+	cpu = r->cpu;
+	if (cycle_settle(t, r) & CYC_EV_MIGRATE)
+		emit(RTSUP_EV_UNSAFE, t, ts, RTSUP_U_MIGRATE, cpu);
+}
+
 /* on_sys_enter - cycle delimiter or a syscall inside a cycle */
-static __always_inline int on_sys_enter(struct pt_regs *regs, long id)
+static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int btf)
 {
 	__u32 tid = (__u32)bpf_get_current_pid_tgid();
 	struct rtsup_thread *t = lookup_thread(tid);
@@ -420,6 +468,7 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id)
 
 	if (!t || t->exited)
 		return 0;
+	settle(t, held_switch_in());
 	now = bpf_ktime_get_ns();
 	if (id < 0 || id >= RTSUP_MAX_SYSCALLS)
 		return 0;
@@ -427,18 +476,17 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id)
 	cls = bpf_map_lookup_elem(&sysclass, &nr);
 	if (!cls)
 		return 0;
-	task = (struct task_struct *)bpf_get_current_task();
-	tc = bpf_map_lookup_elem(&thread_cfg, &tid);
+	task = CURRENT(btf);
+	tc = thread_cfg_of(tid);
 	if (tc && tc->ndelims)
 		delim = in_list(tc->delims, tc->ndelims, RTSUP_CFG_DELIMS, nr);
 	else
 		delim = *cls & RTSUP_SC_DELIM;
 	if (delim) {
 		cf = cfg(tc);
-		expected = sleep_release(regs, *cls, now, &absolute);
+		expected = sleep_release(regs, *cls, now, &absolute, btf);
 		ev = cycle_delim_enter(t, &cf, now, expected, absolute,
-				       BPF_CORE_READ(task, min_flt),
-				       BPF_CORE_READ(task, maj_flt), &c);
+				       TREAD(btf, task, min_flt), TREAD(btf, task, maj_flt), &c);
 		note_wake(t);
 		if (ev & CYC_EV_CLOSED)
 			emit_cycle(ev, t, now, &c, now - expected);
@@ -450,7 +498,7 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id)
 	else if (tc && !unsafe && in_list(tc->forbid, tc->nforbid, RTSUP_CFG_SYSCALLS, nr))
 		unsafe = 1;
 	if (unsafe && (*cls & RTSUP_SC_FDCHECK))
-		unsafe = fd_is_file_or_tty(task, PT_REGS_PARM1_CORE_SYSCALL(regs));
+		unsafe = fd_is_file_or_tty(task, SYSARG(btf, regs, 1));
 	ev = cycle_syscall(t, unsafe);
 	if (ev & CYC_EV_UNSAFE) {
 		/* by number at the cycle's end, like the other counts */
@@ -462,7 +510,7 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id)
 }
 
 /* on_sys_exit - the delimiter returns: a new cycle is released */
-static __always_inline int on_sys_exit(void)
+static __always_inline int on_sys_exit(const int btf)
 {
 	__u32 tid = (__u32)bpf_get_current_pid_tgid();
 	struct rtsup_thread *t = lookup_thread(tid);
@@ -470,9 +518,11 @@ static __always_inline int on_sys_exit(void)
 
 	if (!t || !t->cs.in_delim)
 		return 0;
-	task = (struct task_struct *)bpf_get_current_task();
-	cycle_delim_exit(t, bpf_ktime_get_ns(), BPF_CORE_READ(task, min_flt),
-			 BPF_CORE_READ(task, maj_flt));
+	settle(t, held_switch_in());
+	task = CURRENT(btf);
+	/* a delimiter that slept was released at its switch-in: no clock */
+	cycle_delim_exit(t, cycle_delim_exit_timed(t) ? bpf_ktime_get_ns() : 0,
+			 TREAD(btf, task, min_flt), TREAD(btf, task, maj_flt));
 	note_wake(t);
 	return 0;
 }
@@ -482,32 +532,57 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 				     struct task_struct *next, const int btf)
 {
 	__u32 prev_tid = TREAD(btf, prev, pid), next_tid = TREAD(btf, next, pid);
-	struct rtsup_thread *pt, *nt;
+	struct rtsup_thread *pt = NULL, *nt = NULL;
+	struct cycle_switch_rec *r = NULL;
 	struct rtsup_cycle c;
 	struct cycle_cfg cf;
+	int policy, voluntary, hold = 0;
 	__u64 now;
 	__u32 ev;
-	int policy;
 
 	if (!maybe_target(prev_tid) && !maybe_target(next_tid) && !cfg_rt)
 		return 0;
 	/* one side is usually no target (idle, a kworker): no lookup for it */
-	pt = maybe_target(prev_tid) ? bpf_map_lookup_elem(&threads, &prev_tid) : NULL;
-	nt = maybe_target(next_tid) ? bpf_map_lookup_elem(&threads, &next_tid) : NULL;
-	if (!nt && cfg_rt && next_tid) {
+	if (maybe_target(prev_tid)) {
+		pt = bpf_map_lookup_elem(&threads, &prev_tid);
+		/* what was held for prev is applied now, or dropped with it */
+		r = held_switch_in();
+		if (r && r->tid == prev_tid) {
+			if (pt)
+				settle(pt, r);
+			r->tid = 0;
+		}
+	}
+	/* a thread whose wakeup nobody reads: hold its switch-in, no lookup */
+	if (maybe_target(next_tid)) {
+		if (tid_bit(wakemask, next_tid))
+			nt = bpf_map_lookup_elem(&threads, &next_tid);
+		else
+			hold = 1;
+	}
+	if (!nt && !hold && cfg_rt && next_tid) {
 		policy = TREAD(btf, next, policy);
 		if (policy == SCHED_FIFO || policy == SCHED_RR || policy == SCHED_DEADLINE)
 			nt = add_thread(next, bpf_ktime_get_ns());
 	}
-	if (!pt && !nt)
+	/* keeps clang from OR-ing the two pointers, which the verifier refuses */
+	barrier_var(nt);
+	if (!hold && !pt && !nt)
 		return 0;
-	now = bpf_ktime_get_ns();
+	voluntary = pt && !preempt && (btf ? get_task_state_btf(prev) :
+					     get_task_state(prev)) != 0;
+	/* a thread going to sleep in its delimiter alone needs no clock read */
+	now = nt || hold || cycle_switch_out_timed(pt, voluntary) ? bpf_ktime_get_ns() : 0;
+	if (hold) {
+		if (!r)
+			r = held_switch_in();
+		if (r)
+			cycle_switch_in_later(r, next_tid, now, bpf_get_smp_processor_id(),
+					      TREAD(btf, next, min_flt), TREAD(btf, next, maj_flt));
+	}
 	if (pt) {
-		int voluntary = !preempt && (btf ? get_task_state_btf(prev) :
-						      get_task_state(prev)) != 0;
-
 		cf = cfg(pt->cs.mode == RTSUP_MODE_DELIM ? NULL :
-			 bpf_map_lookup_elem(&thread_cfg, &prev_tid));
+			 thread_cfg_of(prev_tid));
 		ev = cycle_switch_out(pt, &cf, now, voluntary, TREAD(btf, prev, min_flt),
 				      TREAD(btf, prev, maj_flt), &c);
 		if (ev & CYC_EV_BLOCK)
@@ -598,6 +673,7 @@ static __always_inline int on_exit(struct task_struct *task)
 
 	if (!t)
 		return 0;
+	settle(t, held_switch_in());	/* it exits on its CPU */
 	now = bpf_ktime_get_ns();
 	cycle_exit(t, now, BPF_CORE_READ(task, min_flt), BPF_CORE_READ(task, maj_flt));
 	note_wake(t);
@@ -771,10 +847,10 @@ static __always_inline int on_can(const struct sk_buff *skb, __u32 dir, const in
 #define RTSUP_PROGS(kind, sfx, btf)						\
 SEC(kind "/sys_enter")								\
 int BPF_PROG(sys_enter_##sfx, struct pt_regs *regs, long id)			\
-{ return BODY(on_sys_enter(regs, id)); }					\
+{ return BODY(on_sys_enter(regs, id, btf)); }					\
 SEC(kind "/sys_exit")								\
 int BPF_PROG(sys_exit_##sfx, struct pt_regs *regs, long ret)			\
-{ return BODY(on_sys_exit()); }							\
+{ return BODY(on_sys_exit(btf)); }							\
 SEC(kind "/sched_switch")							\
 int BPF_PROG(sched_switch_##sfx, bool preempt, struct task_struct *prev,	\
 	     struct task_struct *next)						\

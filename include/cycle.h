@@ -224,6 +224,15 @@ RTSUP_INLINE __u32 cycle_delim_enter(struct rtsup_thread *t, const struct cycle_
 	return ev;
 }
 
+/*
+ * cycle_delim_exit_timed - will cycle_delim_exit read 'now'? Only when the
+ * delimiter did not sleep: otherwise its switch-in was the release.
+ */
+RTSUP_INLINE int cycle_delim_exit_timed(const struct rtsup_thread *t)
+{
+	return t->cs.in_delim && !t->cs.in_ts;
+}
+
 /* cycle_delim_exit - the delimiter returns: the next cycle is released */
 RTSUP_INLINE void cycle_delim_exit(struct rtsup_thread *t, __u64 now,
 				   __u64 minflt, __u64 majflt)
@@ -299,6 +308,56 @@ RTSUP_INLINE __u32 cycle_switch_in(struct rtsup_thread *t, __u64 now, __s32 cpu,
 		cycle_begin(cs, now, minflt, majflt);
 	}
 	return ev;
+}
+
+/*
+ * A switch-in held on its CPU, applied at the thread's next event there.
+ * A thread in delimiter mode whose wakeup nobody reads (!cycle_wakeup_read)
+ * needs nothing at its switch-in but the time and the CPU; its next event
+ * (the delimiter's return, a syscall, its switch-out, its exit) comes on
+ * the same CPU and looks its entry up anyway. So the switch-in writes this
+ * per-CPU record instead of looking up a cache-cold entry.
+ */
+struct cycle_switch_rec {
+	__u32 tid;		/* 0: nothing held (tid 0 is the idle task) */
+	__s32 cpu;
+	__u64 now;
+	__u64 minflt;
+	__u64 majflt;
+};
+
+/* cycle_switch_in_later - hold a switch-in until the thread's next event */
+RTSUP_INLINE void cycle_switch_in_later(struct cycle_switch_rec *r, __u32 tid, __u64 now,
+					__s32 cpu, __u64 minflt, __u64 majflt)
+{
+	r->tid = tid;
+	r->cpu = cpu;
+	r->now = now;
+	r->minflt = minflt;
+	r->majflt = majflt;
+}
+
+/* cycle_settle - apply the held switch-in if it is this thread's: CYC_EV_* */
+RTSUP_INLINE __u32 cycle_settle(struct rtsup_thread *t, struct cycle_switch_rec *r)
+{
+	if (!r->tid || r->tid != t->tid)
+		return 0;
+	r->tid = 0;
+	return cycle_switch_in(t, r->now, r->cpu, r->minflt, r->majflt);
+}
+
+/*
+ * cycle_switch_out_timed - will cycle_switch_out read 'now'? Not when the
+ * thread sleeps in its delimiter, nor outside a cycle: the common
+ * switch-out of a periodic thread needs no clock read.
+ */
+RTSUP_INLINE int cycle_switch_out_timed(const struct rtsup_thread *t, int voluntary)
+{
+	const struct rtsup_cycle_state *cs = &t->cs;
+
+	if (cs->in_delim)
+		return !voluntary && cs->in_ts && cs->run_since;
+	return cs->start != 0;
 }
 
 /*

@@ -461,6 +461,8 @@ void collector_apply_rules(struct collector *c, const struct supervisor *s)
 					 r->nallow);
 		tc.nforbid = syscall_list(tc.forbid, RTSUP_CFG_SYSCALLS, (char (*)[32])r->forbid,
 					  r->nforbid);
+		/* the hooks look thread_cfg up only from now on */
+		c->skel->bss->thread_cfg_used = 1;
 		if (!bpf_map_update_elem(fd, &tm->tid, &tc, BPF_ANY))
 			tm->cfg_gen = s->gen;
 	}

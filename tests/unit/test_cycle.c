@@ -26,6 +26,9 @@ struct fx {
 	__u64 majflt;
 	__s32 cpu;		/* CPU of the next switch-in */
 	int relative;		/* the delimiter is a relative sleep */
+	struct cycle_switch_rec rec;	/* a switch-in held, as on the kernel's CPU */
+	int held;		/* switch-ins held so far */
+	__u32 settled;		/* CYC_EV_* of the held switch-ins applied */
 };
 
 static int fx_setup(void **state)
@@ -51,28 +54,70 @@ static int fx_teardown(void **state)
  * expected release is absolute (clock_nanosleep TIMER_ABSTIME) unless the
  * fixture says the delimiter is a relative sleep.
  */
+/*
+ * settle - every event of the thread first applies a switch-in held for it,
+ * as the hooks do; its CYC_EV_* bits (a migration) are returned apart.
+ */
+static void settle(struct fx *f)
+{
+	f->settled |= cycle_settle(&f->t, &f->rec);
+}
+
 static __u32 enter(struct fx *f, __u64 now, __u64 expected)
 {
+	settle(f);
 	return cycle_delim_enter(&f->t, &f->cfg, now, expected,
 				 expected && !f->relative, f->minflt,
 				 f->majflt, &f->out);
 }
 
+/*
+ * The kernel side reads no clock when cycle_*_timed says the time is not
+ * used; these wrappers then pass a time far off, so any use of it breaks
+ * the exact numbers the tests check.
+ */
+#define UNTIMED	(1ULL << 62)
+
+static int untimed_out, untimed_exit;	/* how often the clock read was skipped */
+
 static void leave(struct fx *f, __u64 now)
 {
+	settle(f);
+	if (!cycle_delim_exit_timed(&f->t)) {
+		now = UNTIMED;
+		untimed_exit++;
+	}
 	cycle_delim_exit(&f->t, now, f->minflt, f->majflt);
 }
 
 static __u32 sw_out(struct fx *f, __u64 now, int voluntary)
 {
+	settle(f);
+	if (!cycle_switch_out_timed(&f->t, voluntary)) {
+		now = UNTIMED;
+		untimed_out++;
+	}
 	return cycle_switch_out(&f->t, &f->cfg, now, voluntary, f->minflt,
 				f->majflt, &f->out);
 }
 
 static __u32 sw_in(struct fx *f, __u64 now)
 {
+	/* held like the kernel side holds it: when the thread's wakeup bit is clear */
+	if (!cycle_wakeup_read(&f->t)) {
+		cycle_switch_in_later(&f->rec, f->t.tid, now, f->cpu, f->minflt, f->majflt);
+		f->held++;
+		return 0;
+	}
 	return cycle_switch_in(&f->t, now, f->cpu, f->minflt, f->majflt);
 }
+
+static __u32 sys(struct fx *f, int unsafe)
+{
+	settle(f);
+	return cycle_syscall(&f->t, unsafe);
+}
+
 
 /*
  * delim_sleep - the delimiter sleeps: enter at 'now' asking for release
@@ -379,7 +424,12 @@ static void test_cycle_migration(void **state)
 	assert_int_equal(f->t.migrations, 0);
 	assert_int_equal(sw_out(f, s + 50 * US, 0), 0);
 	f->cpu = 1;
-	assert_int_equal(sw_in(f, s + 60 * US), CYC_EV_MIGRATE);
+	/* held on its CPU (no lookup), applied at the thread's next event */
+	assert_int_equal(sw_in(f, s + 60 * US), 0);
+	assert_int_equal(f->held, 3);	/* the two steady releases and this one */
+	assert_int_equal(f->t.migrations, 0);
+	settle(f);
+	assert_int_equal(f->settled, CYC_EV_MIGRATE);
 	assert_int_equal(f->t.migrations, 1);
 	/* unsafe counts are folded in when the cycle is whole */
 	assert_int_equal(f->t.unsafe[RTSUP_U_MIGRATE], 0);
@@ -402,15 +452,15 @@ static void test_cycle_unsafe_syscall(void **state)
 	__u64 now;
 
 	/* before the first cycle: nothing runs, nothing counts */
-	assert_int_equal(cycle_syscall(&f->t, 1), 0);
+	assert_int_equal(sys(f, 1), 0);
 	now = steady(f, rel(0), 1, 2);
-	assert_int_equal(cycle_syscall(&f->t, 1), CYC_EV_UNSAFE);
-	assert_int_equal(cycle_syscall(&f->t, 0), 0);
+	assert_int_equal(sys(f, 1), CYC_EV_UNSAFE);
+	assert_int_equal(sys(f, 0), 0);
 	assert_int_equal(enter(f, now, rel(3)), CYC_EV_CLOSED);
 	assert_int_equal(f->out.syscalls, 2);
 	assert_int_equal(f->out.unsafe_sys, 1);
 	/* inside the delimiter */
-	assert_int_equal(cycle_syscall(&f->t, 1), 0);
+	assert_int_equal(sys(f, 1), 0);
 	assert_int_equal(f->t.syscalls, 2);
 	assert_int_equal(f->t.unsafe[RTSUP_U_SYSCALL], 1);
 	wake_up(f, 3);
@@ -504,7 +554,7 @@ static void test_cycle_activation_then_delim_resets(void **state)
 
 	cycle_wakeup(&f->t, T0);
 	sw_in(f, T0 + 3 * US);
-	assert_int_equal(cycle_syscall(&f->t, 1), CYC_EV_UNSAFE);
+	assert_int_equal(sys(f, 1), CYC_EV_UNSAFE);
 	sw_out(f, T0 + 100 * US, 1);
 	cycle_wakeup(&f->t, s - 1 * US);
 	sw_in(f, s);			/* an activation is running */
@@ -567,6 +617,7 @@ static void test_cycle_exit_mid_cycle(void **state)
 	wake_up(f, 2);
 	assert_int_equal(f->t.cycles, 1);
 	assert_int_equal(f->t.cs.start, s);
+	settle(f);
 	cycle_exit(&f->t, s + 100 * US, 15, 1);
 	assert_int_equal(f->t.exited, s + 100 * US);
 	assert_int_equal(f->t.exit_mid_cycle, 1);
@@ -587,6 +638,7 @@ static void test_cycle_exit_in_delim(void **state)
 	__u64 now = steady(f, rel(0), 1, 2);
 
 	enter(f, now, rel(3));
+	settle(f);
 	cycle_exit(&f->t, now + 10 * US, 50, 5);
 	assert_int_equal(f->t.exit_mid_cycle, 0);
 	assert_int_equal(f->t.exited, now + 10 * US);
@@ -694,6 +746,35 @@ static void test_cycle_preempt_in_delim_after_release(void **state)
 	assert_int_equal(f->out.cpu, 170 * US);
 }
 
+/*
+ * a periodic thread's steady loop: its switch-out into the delimiter's
+ * sleep and the delimiter's return need no clock read, yet every number
+ * is exact (the wrappers pass UNTIMED then)
+ */
+static void test_cycle_steady_loop_reads_clock_once_per_switch_in(void **state)
+{
+	struct fx *f = *state;
+	__u64 now;
+
+	untimed_out = untimed_exit = 0;
+	now = steady(f, rel(0), 1, 10);
+	assert_int_equal(untimed_out, 10);
+	assert_int_equal(untimed_exit, 10);
+	assert_int_equal(enter(f, now, rel(11)), CYC_EV_CLOSED);
+	assert_int_equal(f->out.exec, EXEC);
+	assert_int_equal(f->out.cpu, EXEC);
+	assert_int_equal(f->out.latency, LAT);
+	assert_int_equal(f->out.period, MS);
+	/* going to sleep in the delimiter: no clock; a return without sleep: clock */
+	assert_false(cycle_switch_out_timed(&f->t, 1));
+	assert_true(cycle_delim_exit_timed(&f->t));
+	leave(f, now + 1 * US);
+	/* inside a cycle, a preemption and a block both read the clock */
+	assert_true(cycle_switch_out_timed(&f->t, 0));
+	assert_true(cycle_switch_out_timed(&f->t, 1));
+	assert_false(cycle_delim_exit_timed(&f->t));
+}
+
 #define T(fn) cmocka_unit_test_setup_teardown(fn, fx_setup, fx_teardown)
 
 int main(void)
@@ -720,6 +801,7 @@ int main(void)
 		T(test_cycle_epoch_banks),
 		T(test_cycle_unknown_expected_uses_wakeup),
 		T(test_cycle_preempt_in_delim_after_release),
+		T(test_cycle_steady_loop_reads_clock_once_per_switch_in),
 	};
 
 	return cmocka_run_group_tests_name("cycle", tests, NULL, NULL);
