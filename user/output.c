@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
 /* output.c - table and JSON sinks */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
@@ -189,48 +190,139 @@ static json_t *json_common(const struct collector *c, const struct supervisor *s
 			 sv->overhead_pct >= 0 ? json_real(sv->overhead_pct) : json_null());
 }
 
+/*
+ * A report is one line of JSON, written piece by piece: a document holding
+ * a thousand threads at once cost tens of MiB and most of the CPU time.
+ */
+
+/*
+ * json_put - one value, compact (freed). Encoded into a buffer kept across
+ * calls and written at once: json_dumpf writes token by token, and those
+ * small locked writes were a quarter of the CPU time.
+ */
+static void json_put(json_t *v)
+{
+	static char *buf;
+	static size_t cap;
+	size_t n;
+
+	if (!v) {
+		fputs("null", stdout);
+		return;
+	}
+	n = json_dumpb(v, buf, cap, JSON_COMPACT | JSON_ENCODE_ANY);
+	if (n > cap) {
+		char *b = realloc(buf, n * 2);
+
+		if (b) {
+			buf = b;
+			cap = n * 2;
+			n = json_dumpb(v, buf, cap, JSON_COMPACT | JSON_ENCODE_ANY);
+		}
+	}
+	if (n <= cap)
+		fwrite(buf, 1, n, stdout);
+	else	/* no memory for the buffer: slower, still whole */
+		json_dumpf(v, stdout, JSON_COMPACT | JSON_ENCODE_ANY);
+	json_decref(v);
+}
+
+/* json_fields - an object's fields without its braces (freed), after a comma */
+static void json_fields(json_t *o, bool comma)
+{
+	char *s = json_dumps(o, JSON_COMPACT);
+	size_t n = s ? strlen(s) : 0;
+
+	if (n > 2)
+		printf("%s%.*s", comma ? "," : "", (int)(n - 2), s + 1);
+	free(s);
+	json_decref(o);
+}
+
+/* json_open - a report's first fields (json_common: never empty), left open */
+static void json_open(json_t *o)
+{
+	putchar('{');
+	json_fields(o, false);
+}
+
 /* json_print - one object, one line, flushed */
 static void json_print(json_t *o)
 {
-	json_dumpf(o, stdout, JSON_COMPACT);
+	json_put(o);
 	fputc('\n', stdout);
 	fflush(stdout);
-	json_decref(o);
+}
+
+/* json_key - ,"key": before a value streamed into an open object */
+static void json_key(const char *key)
+{
+	printf(",\"%s\":", key);
+}
+
+/* json_threads - the threads array, one thread object at a time */
+static void json_threads(const struct collector *c, const struct supervisor *sv, bool window)
+{
+	bool first = true;
+	int i;
+
+	json_key("threads");
+	putchar('[');
+	for (i = 0; i < c->model.n; i++) {
+		if (window && c->model.t[i].reported_exit)
+			continue;
+		if (!first)
+			putchar(',');
+		first = false;
+		json_put(json_thread(c, sv, &c->model.t[i], window));
+	}
+	putchar(']');
+}
+
+/* json_close - the last field, the end of the line, flushed */
+static void json_close(const char *key, json_t *v)
+{
+	json_key(key);
+	json_put(v);
+	fputs("}\n", stdout);
+	fflush(stdout);
 }
 
 static void json_interval(const struct collector *c, const struct supervisor *sv,
 			  double elapsed, double interval)
 {
-	json_t *o = json_common(c, sv, "interval", elapsed), *th = json_array(),
-	       *ev = json_array();
+	json_t *o = json_common(c, sv, "interval", elapsed);
 	int i;
 
 	json_object_set_new(o, "interval_s", json_real(interval));
-	for (i = 0; i < c->model.n; i++)
-		if (!c->model.t[i].reported_exit)
-			json_array_append_new(th, json_thread(c, sv, &c->model.t[i], true));
-	for (i = 0; i < c->nevents; i++)
-		json_array_append_new(ev, json_event(c, &c->events[i]));
-	json_object_set_new(o, "threads", th);
-	if (sv->can)
-		json_object_set_new(o, "can", can_json(sv->can, &sv->cfg, sv->now, interval, false));
-	json_object_set_new(o, "events", ev);
-	json_object_set_new(o, "events_not_shown", json_integer(c->events_over));
-	json_print(o);
+	json_open(o);
+	json_threads(c, sv, true);
+	if (sv->can) {
+		json_key("can");
+		json_put(can_json(sv->can, &sv->cfg, sv->now, interval, false));
+	}
+	json_key("events");
+	putchar('[');
+	for (i = 0; i < c->nevents; i++) {
+		if (i)
+			putchar(',');
+		json_put(json_event(c, &c->events[i]));
+	}
+	putchar(']');
+	json_close("events_not_shown", json_integer(c->events_over));
 }
 
 static void json_summary(const struct collector *c, const struct supervisor *sv,
 			 double elapsed)
 {
-	json_t *o = json_common(c, sv, "summary", elapsed), *th = json_array(),
-	       *vs = json_array();
+	json_t *o = json_common(c, sv, "summary", elapsed), *vs = json_array();
 	char when[40];
 	int i;
 
 	json_object_set_new(o, "events_total", json_integer(c->events_total));
-	for (i = 0; i < c->model.n; i++)
-		json_array_append_new(th, json_thread(c, sv, &c->model.t[i], false));
-	json_object_set_new(o, "threads", th);
+	json_open(o);
+	json_threads(c, sv, false);
+	o = json_object();
 	if (sv->can)
 		json_object_set_new(o, "can", can_json(sv->can, &sv->cfg, sv->now, 0, true));
 	for (i = 0; i < sv->nv; i++) {
@@ -242,9 +334,8 @@ static void json_summary(const struct collector *c, const struct supervisor *sv,
 	}
 	json_object_set_new(o, "violations", vs);
 	json_object_set_new(o, "violations_not_listed", json_integer(sv->v_dropped));
-	json_object_set_new(o, "worst_level",
-			    json_string(level_name(supervise_worst(sv, &c->model))));
-	json_print(o);
+	json_fields(o, true);	/* the small rest, after the threads */
+	json_close("worst_level", json_string(level_name(supervise_worst(sv, &c->model))));
 }
 
 /* ---- table ---- */
