@@ -373,9 +373,11 @@ def render(r, res, made):
     for v in ("rtsup", "rtsup_nostats"):
         x = med(r.extra_ns_per_op(v, "sched_pipe", 2))
         if bt is not None and x is not None:
-            a("| per context switch ≥ 2× cheaper than bpftrace's runqlat: %s | %.0f ns vs "
-              "%.0f ns: %.1f× cheaper | %s |" % (r.var[v]["label"], x, bt, bt / x if x > 0 else 0,
-                                                 yes(x > 0 and bt / x >= T_PEER_FACTOR or x <= 0)))
+            a("| per context switch ≥ 2× cheaper than bpftrace's runqlat: %s | %s | %s |" % (
+                r.var[v]["label"],
+                "%.0f ns vs %.0f ns: %.1f× cheaper" % (x, bt, bt / x) if x > 0 else
+                "%.0f ns vs %.0f ns: no cost above the noise" % (x, bt),
+                yes(x > 0 and bt / x >= T_PEER_FACTOR or x <= 0)))
     for h, w, what in (("sched_switch", "loadgen", "of a target (loadgen)"),
                        ("sched_switch", "sched_pipe", "of a thread that is not a target"),
                        ("sched_wakeup", "loadgen", "of a target (loadgen)"),
