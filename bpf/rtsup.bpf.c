@@ -28,9 +28,10 @@ static __always_inline void zero_mem(void *p, __u32 n);
 #include "can.h"
 
 /*
- * TREAD - a field of a task_struct argument: tp_btf programs get BTF
- * pointers and read with a plain load; raw_tp programs need bpf_probe_read.
- * 'btf' is a constant, so each program keeps one of the two.
+ * TREAD - a field of a task_struct or sk_buff argument: tp_btf programs get
+ * BTF pointers and read with a plain load; raw_tp programs need
+ * bpf_probe_read (a helper call per field, per event). 'btf' is a
+ * constant, so each program keeps one of the two.
  */
 #define TREAD(btf, t, f) ((btf) ? (t)->f : BPF_CORE_READ(t, f))
 
@@ -442,15 +443,9 @@ static __always_inline struct cycle_switch_rec *held_switch_in(void)
 /* settle - apply a switch-in held on this CPU for the thread, first thing */
 static __always_inline void settle(struct rtsup_thread *t, struct cycle_switch_rec *r)
 {
-	__u64 ts;
-	__s32 cpu;
-
-	if (!r || r->tid != t->tid)
-		return;
-	ts = r->now;
-	cpu = r->cpu;
-	if (cycle_settle(t, r) & CYC_EV_MIGRATE)
-		emit(RTSUP_EV_UNSAFE, t, ts, RTSUP_U_MIGRATE, cpu);
+	/* cycle_settle leaves the record's time and CPU as they were */
+	if (r && (cycle_settle(t, r) & CYC_EV_MIGRATE))
+		emit(RTSUP_EV_UNSAFE, t, r->now, RTSUP_U_MIGRATE, r->cpu);
 }
 
 /* on_sys_enter - cycle delimiter or a syscall inside a cycle */
@@ -748,16 +743,10 @@ static __always_inline void can_sdo_response(struct rtsup_can_id *v, __u32 ifind
 	}
 }
 
-/*
- * SREAD - a field of the sk_buff argument, like TREAD: a plain load in
- * tp_btf programs (each bpf_probe_read is a helper call, per frame).
- */
-#define SREAD(btf, s, f) ((btf) ? (s)->f : BPF_CORE_READ(s, f))
-
 /* on_can - one SocketCAN frame leaving (tx) or arriving (rx) */
 static __always_inline int on_can(const struct sk_buff *skb, __u32 dir, const int btf)
 {
-	__u16 proto = bpf_ntohs(SREAD(btf, skb, protocol));
+	__u16 proto = bpf_ntohs(TREAD(btf, skb, protocol));
 	struct rtsup_can_key key = { .dir = dir };
 	struct rtsup_canxl_head xl;
 	struct rtsup_can_frame f;
@@ -783,7 +772,7 @@ static __always_inline int on_can(const struct sk_buff *skb, __u32 dir, const in
 	 * still owned by the sending socket: a frame from the bus has no skb->sk.
 	 * Tested before the frame is read: an echo costs no more than this.
 	 */
-	if (dir == RTSUP_CAN_RX && (SREAD(btf, skb, sk) ||
+	if (dir == RTSUP_CAN_RX && (TREAD(btf, skb, sk) ||
 	    (btf ? BPF_CORE_READ_BITFIELD(skb, pkt_type) :
 		   BPF_CORE_READ_BITFIELD_PROBED(skb, pkt_type)) == PACKET_LOOPBACK)) {
 		__sync_fetch_and_add(&ifs->loopback, 1);
@@ -791,7 +780,7 @@ static __always_inline int on_can(const struct sk_buff *skb, __u32 dir, const in
 	}
 	now = bpf_ktime_get_ns();
 	kind = proto - RTSUP_ETH_P_CAN;
-	data = SREAD(btf, skb, data);
+	data = TREAD(btf, skb, data);
 	if (kind == RTSUP_CAN_XL) {
 		if (bpf_probe_read_kernel(&xl, sizeof(xl), data))
 			return 0;
