@@ -157,11 +157,17 @@ void span_window(const struct rtsup_thread *cur, const struct rtsup_thread *prev
 		metric_view_window(&cur->m[i], prev ? &prev->m[i] : NULL, bank, &s->m[i]);
 }
 
+void model_views(struct thread_model *tm, const struct rtsup_thread *t,
+		 const struct rtsup_thread *prev, __u32 bank)
+{
+	span_window(t, prev, bank, &tm->win);
+	span_life(t, &tm->life);
+}
+
 void model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank)
 {
-	span_window(t, tm->cur.first_seen ? &tm->cur : NULL, bank, &tm->win);
+	model_views(tm, t, tm->cur.first_seen ? &tm->cur : NULL, bank);
 	tm->cur = *t;
-	span_life(&tm->cur, &tm->life);
 }
 
 void model_idle(struct thread_model *tm)

@@ -119,6 +119,9 @@ void span_window(const struct rtsup_thread *cur, const struct rtsup_thread *prev
  * view is the change since the previous one (none yet: since the start)
  */
 void model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank);
+/* model_views - the interval (t minus prev, NULL: since the start) and lifetime views */
+void model_views(struct thread_model *tm, const struct rtsup_thread *t,
+		 const struct rtsup_thread *prev, __u32 bank);
 /* model_idle - no snapshot this interval: an empty interval view */
 void model_idle(struct thread_model *tm);
 

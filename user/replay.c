@@ -146,12 +146,8 @@ static void on_mark(struct replay *r, const struct rec_interval *ri, bool end)
 	c->bank = r->epoch & 1;
 	r->epoch++;
 	/* what the live collector computes per sample: the change since the last mark */
-	for (i = 0; i < c->model.n; i++) {
-		struct thread_model *tm = &c->model.t[i];
-
-		span_window(&tm->cur, tm->snap, c->bank, &tm->win);
-		span_life(&tm->cur, &tm->life);
-	}
+	for (i = 0; i < c->model.n; i++)
+		model_views(&c->model.t[i], &c->model.t[i].cur, c->model.t[i].snap, c->bank);
 	supervise_interval(r->s, &c->model, c->bank, &self, ri->mono_ns);
 	/* like a live run: the last, partial interval, then the summary */
 	output_interval(c, r->s, (ri->mono_ns - r->start) / 1e9, (ri->mono_ns - r->last) / 1e9);
