@@ -23,6 +23,7 @@
 #include <string.h>
 #include <sys/mman.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/syscall.h>
 #include <time.h>
 #include <unistd.h>
@@ -73,6 +74,8 @@ struct worker {
 	char comm[16];
 	int policy, prio;
 	long cycles, misses, overruns, overruns_seen, page_faults, blocks, stalls;
+	/* --audit: cycles a tracer may judge otherwise (race_audit()), sleeps */
+	long misses_near, overruns_near, vol_switches;
 	long sc[NR_SC];
 	bool exited;
 	long exit_cycle;
@@ -96,6 +99,7 @@ static struct config {
 	long threads, period_us, work_us, prio, cycles, start_delay_ms;
 	bool relative;
 	bool hold;
+	bool audit;
 	const char *wait_file;
 	const char *summary;
 	const char *name;
@@ -293,7 +297,7 @@ static void check_faults(void)
 	}
 }
 
-enum { OPT_RELATIVE = 0x100, OPT_NAME, OPT_START_DELAY, OPT_HOLD, OPT_WAIT_FILE };
+enum { OPT_RELATIVE = 0x100, OPT_NAME, OPT_START_DELAY, OPT_HOLD, OPT_WAIT_FILE, OPT_AUDIT };
 
 const char *argp_program_version = PROG " 0.1";
 static const char doc[] =
@@ -327,6 +331,8 @@ static const struct argp_option opts[] = {
 	{ "summary", 's', "FILE", 0, "Write the JSON summary to FILE ('-' = stdout)", 0 },
 	{ "relative", OPT_RELATIVE, NULL, 0, "Sleep with relative clock_nanosleep", 0 },
 	{ "name", OPT_NAME, "PREFIX", 0, "Thread name prefix (default \"lg\")", 0 },
+	{ "audit", OPT_AUDIT, NULL, 0, "Count the cycles whose miss or overrun a tracer "
+	  "may judge otherwise (two getrusage calls per cycle)", 0 },
 	{ "start-delay", OPT_START_DELAY, "MS", 0, "Sleep MS before starting threads", 0 },
 	{ "wait-file", OPT_WAIT_FILE, "PATH", 0, "Start the threads once PATH exists "
 	  "(a tracer creates it when attached; at most 5 minutes)", 0 },
@@ -366,6 +372,9 @@ static error_t parse_arg(int key, char *arg, struct argp_state *state)
 		break;
 	case OPT_RELATIVE:
 		cfg.relative = true;
+		break;
+	case OPT_AUDIT:
+		cfg.audit = true;
 		break;
 	case OPT_HOLD:
 		cfg.hold = true;
@@ -538,11 +547,48 @@ static void __attribute__((noinline)) touch_stack(void)
 
 static int workers_done;	/* threads past their last cycle */
 
+/*
+ * --audit: the race between our clock reads and a tracer's syscall hooks.
+ * The tracer judges a miss at the delimiter's entry (is the release past?)
+ * and an overrun from the switch-in that released the cycle to the next
+ * entry; we read the clock just before and just after those points. Only
+ * the syscall path lies between (a few us), unless the thread is preempted
+ * there. A cycle is "near" when the tracer may judge it otherwise than we
+ * did: it is within RACE_NS of the limit, or the thread was preempted in
+ * an edge window (involuntary switches read with getrusage around it).
+ */
+#define RACE_NS 50000	/* syscall entry or exit path plus an interrupt, with margin */
+
+/* rusage_switches - this thread's context switches so far */
+static void rusage_switches(long *vol, long *invol)
+{
+	struct rusage ru;
+
+	getrusage(RUSAGE_THREAD, &ru);
+	*vol = ru.ru_nvcsw;
+	*invol = ru.ru_nivcsw;
+}
+
+/* One cycle's overrun verdict, settled once its end edge is known. */
+struct pending_overrun {
+	bool valid, seen, near;		/* near: close to the period, or preempted at its start */
+};
+
+/* audit_overrun - count a finished cycle a tracer may call an overrun when we did not */
+static void audit_overrun(struct worker *w, const struct pending_overrun *p, bool end_edge)
+{
+	if (p->valid && !p->seen && (p->near || end_edge))
+		w->overruns_near++;
+}
+
 /* worker_main - one periodic RT thread, cyclictest style */
 static void *worker_main(void *arg)
 {
 	struct worker *w = arg;
-	int64_t period = cfg.period_us * 1000, next, now, start, work;
+	int64_t period = cfg.period_us * 1000, next, now, start, work, span;
+	long vol0 = 0, vol = 0, inv = 0, inv_end = 0;
+	struct pending_overrun prev = { 0 };
+	bool late, edge = false;
 	struct sched_param sp;
 	struct timespec ts;
 	bool quit = false;
@@ -564,10 +610,13 @@ static void *worker_main(void *arg)
 	touch_stack();
 	now_ns();	/* warm the vDSO */
 
+	if (cfg.audit)
+		rusage_switches(&vol0, &inv_end);
 	next = now_ns() + period;
 	for (c = 0; c < cfg.cycles; c++) {
 		now = now_ns();
-		if (next <= now)
+		late = next <= now;
+		if (late)
 			w->misses++;
 		/* exactly one clock_nanosleep per cycle, even when late */
 		if (cfg.relative) {
@@ -577,13 +626,26 @@ static void *worker_main(void *arg)
 			ts = ns_to_ts(next);
 			clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL);
 		}
+		if (cfg.audit) {
+			/* preempted between the last end read and this cycle's start? */
+			rusage_switches(&vol, &inv);
+			edge = inv > inv_end;
+			if (!late && !cfg.relative && (next - now < RACE_NS || edge))
+				w->misses_near++;
+			audit_overrun(w, &prev, edge);
+		}
 		start = now_ns();
 		work = w->maxlog ? inject(w, c, &quit) : cfg.work_us * 1000;
 		while (now_ns() - start < work)
 			;
+		if (cfg.audit)
+			rusage_switches(&vol, &inv_end);
 		/* what a tracer sees: the work took longer than a period (stalls too) */
-		if (now_ns() - start > period)
+		span = now_ns() - start;
+		if (span > period)
 			w->overruns_seen++;
+		prev = (struct pending_overrun){ .valid = true, .seen = span > period,
+			.near = span > period - RACE_NS || edge };
 		w->cycles++;
 		if (quit) {
 			w->exited = true;
@@ -591,6 +653,12 @@ static void *worker_main(void *arg)
 			break;
 		}
 		next += period;	/* never skip missed periods */
+	}
+	if (cfg.audit) {
+		/* the last cycle's end edge is the next delimiter, never observed */
+		audit_overrun(w, &prev, true);
+		rusage_switches(&vol, &inv);
+		w->vol_switches = vol - vol0;
 	}
 	__atomic_fetch_add(&workers_done, 1, __ATOMIC_RELEASE);
 	/*
@@ -894,6 +962,11 @@ static json_t *thread_json(const struct worker *w)
 		      "hog_tid", (int)w->hog_tid);
 	if (!o)
 		die("json", "cannot build the summary");
+	if (cfg.audit)
+		json_object_update_new(o, json_pack("{s:I, s:I, s:I}",
+			"deadline_misses_near", (json_int_t)w->misses_near,
+			"overruns_near", (json_int_t)w->overruns_near,
+			"voluntary_switches", (json_int_t)w->vol_switches));
 	return o;
 }
 

@@ -14,6 +14,22 @@ pytestmark = pytest.mark.usefixtures("bpf")
 CYCLES = 2000
 
 
+def check_timing_counts(truth_t, tot):
+    """Misses and overruns against the generator's own verdicts. The race:
+    the generator reads the clock just before the delimiter's entry (miss?)
+    and just after its return (the cycle's start), the tracer sees the entry
+    and the switch-in. A cycle within 50 us of the limit, or preempted in
+    such an edge window, may be judged otherwise: the generator counts those
+    cycles (`*_near`, loadgen --audit), and only those may differ. Both sides
+    see the same late cycles otherwise, however noisy the machine."""
+    assert (truth_t["deadline_misses"] <= tot["deadline_misses"]
+            <= truth_t["deadline_misses"] + truth_t["deadline_misses_near"]), (
+        tot["deadline_misses"], truth_t["deadline_misses"], truth_t["deadline_misses_near"])
+    assert (truth_t["overruns_seen"] <= tot["overruns"]
+            <= truth_t["overruns_seen"] + truth_t["overruns_near"]), (
+        tot["overruns"], truth_t["overruns_seen"], truth_t["overruns_near"])
+
+
 def check_thread_matches(truth_t, got):
     """Every injected fault of one thread is reported with the exact count."""
     tot = got["total"]
@@ -30,8 +46,7 @@ def check_thread_matches(truth_t, got):
         assert tot["overruns"] >= truth_t["overruns"]
         assert tot["deadline_misses"] >= truth_t["overruns"]
     else:
-        assert tot["overruns"] == truth_t["overruns_seen"]
-        assert tot["deadline_misses"] == truth_t["deadline_misses"]
+        check_timing_counts(truth_t, tot)
     assert tot["page_faults"]["minor"] == truth_t["page_faults"]
     assert tot["unsafe"]["minor_fault"] == truth_t["page_faults"]
     assert tot["unsafe"]["block"] == truth_t["blocks"]
@@ -211,7 +226,8 @@ def test_relative_sleep_with_nominal_period(tmp_path):
             continue
         # a relative sleeper drifts by every late wakeup: only on real time
         assert tot["period_ns"]["mean"] == pytest.approx(PERIOD_US * 1000, rel=0.02)
-        assert tot["overruns"] == t["overruns_seen"]
+        # the same race as check_timing_counts
+        assert t["overruns_seen"] <= tot["overruns"] <= t["overruns_seen"] + t["overruns_near"]
         # a relative sleep has no deadline to miss
         assert tot["deadline_misses"] == 0
 
@@ -226,12 +242,19 @@ def test_activation_mode_reads_wakeups(tmp_path):
         g = got[t["tid"]]
         assert g["mode"] == "activation"
         tot = g["total"]
-        # one activation per cycle; the start-up may add or drop a few
-        assert tot["cycles"] == pytest.approx(t["cycles"], abs=10)
+        # an activation runs from a wakeup to the next block: one per voluntary
+        # switch, which the generator reads for itself (getrusage) around its
+        # loop. A late cycle's sleep may not block, so cycles are no measure.
+        # The first activation starts at the first block's wakeup and the last
+        # one ends at the last block: 2 at the edges.
+        assert tot["cycles"] == pytest.approx(t["voluntary_switches"], abs=2)
         lat = tot["latency_ns"]
-        assert lat["count"] >= tot["cycles"] - 10
+        assert lat["count"] >= tot["cycles"] - 2
         assert 0 < lat["p50"] < PERIOD_US * 1000
-        assert tot["period_ns"]["mean"] == pytest.approx(PERIOD_US * 1000, rel=0.05)
+        # the mean distance between two wakeups is a period whether or not a
+        # late cycle blocked: the releases are the generator's, every period
+        assert tot["period_ns"]["mean"] == pytest.approx(
+            PERIOD_US * 1000 * t["cycles"] / t["voluntary_switches"], rel=0.05)
 
 
 def test_stall_starves_the_thread(tmp_path):
@@ -242,7 +265,8 @@ def test_stall_starves_the_thread(tmp_path):
     tot = got[t0["tid"]]["total"]
     assert t0["stalls"] == 1 and t0["deadline_misses"] >= 1
     if not EMULATED:
-        assert tot["deadline_misses"] == t0["deadline_misses"]
+        assert (t0["deadline_misses"] <= tot["deadline_misses"]
+                <= t0["deadline_misses"] + t0["deadline_misses_near"])  # check_timing_counts
     # the next release passed while the hog spun: that sleep ends late by
     # the stall less one period (7 ms on the host, 3 ms at the guest's 5 ms)
     assert tot["latency_ns"]["max"] >= (8000 - PERIOD_US) * 1000
