@@ -163,6 +163,7 @@ static void check_responding(struct status *st, const struct can_thresholds *th,
 	double k;
 	__u64 j;
 
+	status_check(st, "can_responding");
 	if (period && last && now > last) {
 		k = (double)(now - last) / period;
 		if (th->error_periods && k >= th->error_periods)
@@ -199,6 +200,7 @@ static void check_iface(struct can_iface *f, const struct can_config *cc, double
 	busoff = f->cur.err_frames && (f->cur.err_id & RTSUP_CAN_ERR_BUSOFF);
 	f->load = f->bitrate && interval_s > 0 ? bits / (interval_s * f->bitrate) : -1;
 	status_reset(&f->st);
+	status_check(&f->st, "can_bus");
 	if (f->load >= 0 && cc->busload_error && f->load > cc->busload_error)
 		status_add(&f->st, LEVEL_ERROR, "bus load %.1f %% > %.0f %%", f->load * 100,
 			   cc->busload_error * 100);
@@ -260,6 +262,7 @@ static void canopen_update(struct can_model *m, const struct can_entry *e)
 static void check_canopen(struct canopen_node *co, const struct can_config *cc, __u64 now)
 {
 	status_reset(&co->st);
+	status_check(&co->st, "canopen");
 	/* a heartbeat stamped after 'now' (read after it) is fresh, not 584 years old */
 	if (co->heartbeat_last && cc->heartbeat_timeout_ns && now > co->heartbeat_last &&
 	    now - co->heartbeat_last > cc->heartbeat_timeout_ns)
@@ -326,6 +329,7 @@ static void judge_groups(struct can_model *m, const struct config *cfg, can_judg
 		struct status old = gv->st, st;
 
 		status_reset(&st);
+		status_check(&st, "can_group");
 		for (i = 0; i < m->nnodes; i++)
 			if (!strcmp(cfg->can.nodes[i].group, gv->name) &&
 			    m->nodes[i].st.level >= LEVEL_WARN)
@@ -390,6 +394,7 @@ void can_model_judge(struct can_model *m, const struct config *cfg, __u64 now,
 
 		old = v->st;
 		status_reset(&v->st);
+		status_check(&v->st, "initialization");
 		if (!v->frames && n->th.init_timeout_s &&
 		    now - m->start_ns >= n->th.init_timeout_s * 1e9)
 			status_add(&v->st, LEVEL_WARN, "not initialized: never seen in %.1f s",

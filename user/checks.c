@@ -56,6 +56,9 @@ static void check_overrun(const struct check_in *in, const struct span_view *v,
 		   "%llu deadline misses, %llu overruns in %llu cycles %s (%.2f %%)",
 		   (unsigned long long)v->misses, (unsigned long long)v->overruns,
 		   (unsigned long long)v->cycles, span, rate * 100);
+	status_count(s, "deadline_misses", v->misses);
+	status_count(s, "overruns", v->overruns);
+	status_count(s, "cycles", v->cycles);
 }
 
 /* check_exec_near - execution time coming near its period (the seed's warning) */
@@ -116,6 +119,9 @@ static void check_unsafe(const struct check_in *in, const struct span_view *v,
 		status_add(s, l, "RT-unsafe %s: %s (syscalls: %s)", span, what, names);
 	else
 		status_add(s, l, "RT-unsafe %s: %s", span, what);
+	for (r = 0; r < RTSUP_U_NR; r++)
+		if (v->unsafe[r])
+			status_count(s, unsafe_reason_name(r), v->unsafe[r]);
 }
 
 /* check_latency - wakeup latency p99 and max */
@@ -204,22 +210,36 @@ void check_thread(const struct check_in *in, struct status *out)
 	/* threads that are neither RT nor named by a rule are only shown */
 	if (!in->judged)
 		return;
+	/* every message says which check made it (CHECK_* names, docs/json.md) */
+	status_check(out, CHECK_EXCEPTION);
 	check_exceptions(in, out);
+	status_check(out, CHECK_SCHED);
 	check_sched(in, out);
+	status_check(out, CHECK_INIT);
 	check_init(in, out);
+	status_check(out, CHECK_STARVATION);
 	check_starvation(in, period, out);
 	if (in->win) {
+		status_check(out, CHECK_MISS);
 		check_overrun(in, in->win, "in the last interval", out);
+		status_check(out, CHECK_EXEC_NEAR);
 		check_exec_near(in, in->win, period, out);
+		status_check(out, CHECK_UNSAFE);
 		check_unsafe(in, in->win, "in the last interval", in->unsafe_names, out);
+		status_check(out, CHECK_LATENCY);
 		check_latency(in, in->win, out);
+		status_check(out, CHECK_JITTER);
 		check_jitter(in, in->win, period, out);
 	}
 	if (in->rule->th.lifetime) {
+		status_check(out, CHECK_MISS);
 		check_overrun(in, in->life, "in total", out);
 		/* the names are the window's: not for the totals */
+		status_check(out, CHECK_UNSAFE);
 		check_unsafe(in, in->life, "in total", NULL, out);
+		status_check(out, CHECK_LATENCY);
 		check_latency(in, in->life, out);
+		status_check(out, CHECK_JITTER);
 		check_jitter(in, in->life, period, out);
 	}
 	/* a dead thread has no data any more: STALE unless it is worse */
@@ -232,6 +252,7 @@ void check_self(const struct self_in *in, struct status *out)
 	const struct thresholds *th = in->th;
 
 	status_reset(out);
+	status_check(out, CHECK_OVERHEAD);
 	if (in->overhead_pct >= 0) {
 		if (th->overhead_error_pct && in->overhead_pct > th->overhead_error_pct)
 			status_add(out, LEVEL_ERROR, "BPF overhead %.2f %% of a CPU > %.2f %%",
@@ -240,10 +261,15 @@ void check_self(const struct self_in *in, struct status *out)
 			status_add(out, LEVEL_WARN, "BPF overhead %.2f %% of a CPU > %.2f %%",
 				   in->overhead_pct, th->overhead_warn_pct);
 	}
-	if (in->lost_events)
+	status_check(out, CHECK_LOSS);
+	if (in->lost_events) {
 		status_add(out, LEVEL_WARN, "%llu rare events lost (ring buffer full)",
 			   (unsigned long long)in->lost_events);
-	if (in->untracked_threads)
+		status_count(out, "lost_events", in->lost_events);
+	}
+	if (in->untracked_threads) {
 		status_add(out, LEVEL_WARN, "%llu threads not tracked: the thread map is full "
 			   "(--max-threads)", (unsigned long long)in->untracked_threads);
+		status_count(out, "untracked_threads", in->untracked_threads);
+	}
 }

@@ -13,6 +13,19 @@
 #include "model.h"
 #include "status.h"
 
+/* Check names: what each message of a verdict says it came from (docs/json.md). */
+#define CHECK_EXCEPTION		"exception"
+#define CHECK_SCHED		"scheduling"
+#define CHECK_INIT		"initialization"
+#define CHECK_STARVATION	"starvation"
+#define CHECK_MISS		"deadline_miss"
+#define CHECK_EXEC_NEAR		"exec_near_period"
+#define CHECK_UNSAFE		"rt_unsafe"
+#define CHECK_LATENCY		"latency"
+#define CHECK_JITTER		"jitter"
+#define CHECK_OVERHEAD		"overhead"
+#define CHECK_LOSS		"loss"
+
 /* Everything the checks know about one thread at the end of an interval. */
 struct check_in {
 	const struct span_view *win;	/* the last interval, NULL before the first */

@@ -57,16 +57,18 @@ static int on_event(void *ctx, void *data, size_t len)
 		return 0;
 	if (c->on_rare)
 		c->on_rare(c->sink_ctx, data);
-	c->events_total++;
-	if (c->nevents == COLLECTOR_MAX_EVENTS) {
-		c->events_over++;
-		return 0;
-	}
-	memcpy(&c->events[c->nevents], data, sizeof(struct rtsup_event));
-	c->events[c->nevents].comm[RTSUP_COMM_LEN - 1] = '\0';
-	comm_sanitize(c->events[c->nevents].comm, RTSUP_COMM_LEN);
-	c->nevents++;
+	collector_take_event(c, data);
 	return 0;
+}
+
+void collector_take_event(struct collector *c, const struct rtsup_event *e)
+{
+	struct rtsup_event ev = *e;
+
+	ev.comm[RTSUP_COMM_LEN - 1] = '\0';
+	comm_sanitize(ev.comm, RTSUP_COMM_LEN);
+	c->events_total++;
+	eventlog_add(&c->events, &ev);
 }
 
 /* on_cycle_rec - recording ring buffer callback: hand the cycle to the sinks */
@@ -364,6 +366,8 @@ int collector_sample(struct collector *c)
 {
 	int i, err;
 
+	/* what came in the interval, in time order, floods folded */
+	eventlog_finish(&c->events);
 	/* new interval: the kernel writes the other min/max bank from now on */
 	c->bank = c->skel->bss->epoch & 1;
 	c->skel->bss->epoch++;
@@ -470,13 +474,13 @@ void collector_apply_rules(struct collector *c, const struct supervisor *s)
 
 void collector_clear_events(struct collector *c)
 {
-	c->nevents = 0;
-	c->events_over = 0;
+	eventlog_clear(&c->events);
 }
 
 void collector_free(struct collector *c)
 {
 	ring_buffer__free(c->rb);
+	eventlog_free(&c->events);
 	model_free(&c->model);
 	free(c->batch_keys);
 	free(c->batch_vals);

@@ -8,13 +8,12 @@
 #define RTSUP_COLLECTOR_H
 
 #include <stdbool.h>
+#include "eventlog.h"
 #include "model.h"
 #include "options.h"
 
 struct rtsup_bpf;
 struct ring_buffer;
-
-#define COLLECTOR_MAX_EVENTS 256
 
 /* Thread map entries per read at first: 64 entries of ~5 KiB. */
 #define COLLECTOR_BATCH 64
@@ -26,10 +25,8 @@ struct collector {
 	struct ring_buffer *rb;
 	__u32 bank;			/* interval bank of the last sample */
 	__u64 counters[RTSUP_C_NR];	/* the kernel side's own counters */
-	struct rtsup_event events[COLLECTOR_MAX_EVENTS];
-	int nevents;
-	__u64 events_over;		/* events beyond COLLECTOR_MAX_EVENTS */
-	__u64 events_total;
+	struct eventlog events;		/* the interval's rare events (eventlog.h) */
+	__u64 events_total;		/* every rare event of the run */
 	__s64 real_off;			/* CLOCK_REALTIME - CLOCK_MONOTONIC, ns */
 	__u64 start_ns;			/* monotonic start */
 	__u32 map_entries;		/* entries of the thread map at the last sample */
@@ -57,6 +54,8 @@ void collector_reap(struct collector *c);
 struct supervisor;
 /* collector_apply_rules - per-thread settings of the matching rules, to the kernel */
 void collector_apply_rules(struct collector *c, const struct supervisor *s);
+/* collector_take_event - one rare event for the interval's list */
+void collector_take_event(struct collector *c, const struct rtsup_event *e);
 /* collector_clear_events - forget the events of the interval */
 void collector_clear_events(struct collector *c);
 void collector_free(struct collector *c);

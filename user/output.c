@@ -93,15 +93,37 @@ static json_t *json_span(const struct span_view *s, const struct thread_model *t
 	return o;
 }
 
+/* json_checks - per message, for machines: check, level, text and numbers */
+static json_t *json_checks(const struct status_fact *f, int n, const char *const *text)
+{
+	json_t *a = json_array(), *counts;
+	int i, j;
+
+	for (i = 0; i < n; i++) {
+		counts = json_object();
+		for (j = 0; j < f[i].ncounts; j++)
+			json_object_set_new(counts, f[i].counts[j].key,
+					    json_integer(f[i].counts[j].val));
+		json_array_append_new(a, json_pack("{s:s,s:s,s:s,s:o}", "check", f[i].check,
+						   "level", level_name(f[i].level),
+						   "text", text[i], "counts", counts));
+	}
+	return a;
+}
+
 /* json_status - a component's level and messages */
 static json_t *json_status(const struct status *st)
 {
+	const char *text[STATUS_MAX_MSGS];
 	json_t *m = json_array();
 	int i;
 
-	for (i = 0; i < st->nmsg; i++)
+	for (i = 0; i < st->nmsg; i++) {
 		json_array_append_new(m, json_string(st->msg[i]));
-	return json_pack("{s:s,s:o}", "level", level_name(st->level), "messages", m);
+		text[i] = st->msg[i];
+	}
+	return json_pack("{s:s,s:o,s:o}", "level", level_name(st->level), "messages", m,
+			 "checks", json_checks(st->fact, st->nmsg, text));
 }
 
 /* json_thread - identity of a thread plus the requested spans */
@@ -169,6 +191,38 @@ static json_t *json_event(const struct collector *c, const struct rtsup_event *e
 		json_object_set_new(o, "signal", json_integer(e->arg));
 		break;
 	}
+	return o;
+}
+
+/*
+ * json_fold - a flood of one kind for one thread: how many of its events
+ * are not in "events" (the first and last EVENTLOG_KEEP are)
+ */
+static json_t *json_fold(const struct collector *c, const struct event_fold *f)
+{
+	struct rtsup_event e = { .ts = f->first_ts, .type = f->type, .tid = f->tid };
+	char first[40], last[40];
+	json_t *o;
+
+	/* the kind's fields as json_event writes them */
+	if (f->type == RTSUP_EV_UNSAFE) {
+		e.arg = f->kind >> 32;
+		e.arg2 = f->kind & 0xffffffff;
+	} else {
+		e.arg = f->kind;
+	}
+	memcpy(e.comm, f->comm, sizeof(e.comm));
+	o = json_event(c, &e);
+	json_object_del(o, "time");
+	json_object_del(o, "cpu");
+	json_object_del(o, "tgid");
+	json_object_del(o, "late_ns");
+	json_object_del(o, "count");
+	fmt_time(c, f->first_ts, first, sizeof(first));
+	fmt_time(c, f->last_ts, last, sizeof(last));
+	json_object_update_new(o, json_pack("{s:I,s:I,s:s,s:s}", "seen", (json_int_t)f->seen,
+					    "folded", (json_int_t)f->folded, "first", first,
+					    "last", last));
 	return o;
 }
 
@@ -303,13 +357,21 @@ static void json_interval(const struct collector *c, const struct supervisor *sv
 	}
 	json_key("events");
 	putchar('[');
-	for (i = 0; i < c->nevents; i++) {
+	for (i = 0; i < (int)c->events.n; i++) {
 		if (i)
 			putchar(',');
-		json_put(json_event(c, &c->events[i]));
+		json_put(json_event(c, &c->events.ev[i]));
 	}
 	putchar(']');
-	json_close("events_not_shown", json_integer(c->events_over));
+	json_key("events_folded");
+	putchar('[');
+	for (i = 0; i < (int)c->events.nflood; i++) {
+		if (i)
+			putchar(',');
+		json_put(json_fold(c, &c->events.fold[i]));
+	}
+	putchar(']');
+	json_close("events_not_shown", json_integer(c->events.folded + c->events.dropped));
 }
 
 static void json_summary(const struct collector *c, const struct supervisor *sv,
@@ -326,11 +388,18 @@ static void json_summary(const struct collector *c, const struct supervisor *sv,
 	if (sv->can)
 		json_object_set_new(o, "can", can_json(sv->can, &sv->cfg, sv->now, 0, true));
 	for (i = 0; i < sv->nv; i++) {
-		fmt_time(c, sv->v[i].mono_ns, when, sizeof(when));
-		json_array_append_new(vs, json_pack("{s:s,s:s,s:s,s:s}", "time", when,
-						    "component", sv->v[i].component, "level",
-						    level_name(sv->v[i].level), "what",
-						    sv->v[i].what));
+		const struct violation *v = &sv->v[i];
+		const char *text[STATUS_MAX_MSGS];
+		int k;
+
+		/* the joined "what" holds the texts; each check lists its facts */
+		for (k = 0; k < v->nfact; k++)
+			text[k] = v->text[k];
+		fmt_time(c, v->mono_ns, when, sizeof(when));
+		json_array_append_new(vs, json_pack("{s:s,s:s,s:s,s:s,s:o}", "time", when,
+						    "component", v->component, "level",
+						    level_name(v->level), "what", v->what, "checks",
+						    json_checks(v->fact, v->nfact, text)));
 	}
 	json_object_set_new(o, "violations", vs);
 	json_object_set_new(o, "violations_not_listed", json_integer(sv->v_dropped));
@@ -450,6 +519,7 @@ static void table_interval(const struct collector *c, const struct supervisor *s
 	bool color = use_color(c->o);
 	char title[160];
 	int i, shown = 0, live = 0;
+	__u64 hidden = 0;
 
 	for (i = 0; i < c->model.n; i++)
 		live += c->model.t[i].alive;
@@ -472,16 +542,22 @@ static void table_interval(const struct collector *c, const struct supervisor *s
 	table_messages(c, sv);
 	if (sv->can)
 		can_table(sv->can, &sv->cfg, sv->now, interval, false);
-	for (i = 0; i < c->nevents && shown < MAX_EVENT_LINES; i++) {
-		/* new-thread notices are noise in a live table */
-		if (c->events[i].type == RTSUP_EV_NEW)
+	for (i = 0; i < (int)c->events.n; i++) {
+		const struct rtsup_event *e = &c->events.ev[i];
+
+		/* new-thread notices are noise in a live table; exits always show */
+		if (e->type == RTSUP_EV_NEW)
 			continue;
-		table_event(c, &c->events[i]);
+		if (shown >= MAX_EVENT_LINES && !eventlog_never_folded(e->type)) {
+			hidden++;
+			continue;
+		}
+		table_event(c, e);
 		shown++;
 	}
-	if (c->nevents - shown > 0 || c->events_over)
-		printf("  ... %llu more events\n",
-		       (unsigned long long)(c->nevents - shown + c->events_over));
+	hidden += c->events.folded + c->events.dropped;
+	if (hidden)
+		printf("  ... %llu more events\n", (unsigned long long)hidden);
 	printf("\n");
 	fflush(stdout);
 }

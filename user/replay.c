@@ -115,15 +115,7 @@ static void on_event(struct replay *r, const struct rtsup_event *e)
 
 	if (r->pf && e->type != RTSUP_EV_NEW)
 		perfetto_event(r->pf, e);
-	c->events_total++;
-	if (c->nevents == COLLECTOR_MAX_EVENTS) {
-		c->events_over++;
-		return;
-	}
-	c->events[c->nevents] = *e;
-	c->events[c->nevents].comm[RTSUP_COMM_LEN - 1] = '\0';
-	comm_sanitize(c->events[c->nevents].comm, RTSUP_COMM_LEN);
-	c->nevents++;
+	collector_take_event(c, e);
 }
 
 /* on_mark - an interval (or the run) ended: judge and report it */
@@ -149,6 +141,7 @@ static void on_mark(struct replay *r, const struct rec_interval *ri, bool end)
 	for (i = 0; i < c->model.n; i++)
 		model_views(&c->model.t[i], &c->model.t[i].cur, c->model.t[i].snap, c->bank);
 	supervise_interval(r->s, &c->model, c->bank, &self, ri->mono_ns);
+	eventlog_finish(&c->events);
 	/* like a live run: the last, partial interval, then the summary */
 	output_interval(c, r->s, (ri->mono_ns - r->start) / 1e9, (ri->mono_ns - r->last) / 1e9);
 	if (end) {

@@ -10,6 +10,24 @@ void status_reset(struct status *s)
 	s->level = LEVEL_OK;
 	s->nmsg = 0;
 	s->dropped = 0;
+	s->check = NULL;
+}
+
+void status_check(struct status *s, const char *check)
+{
+	s->check = check;
+}
+
+void status_count(struct status *s, const char *key, __u64 val)
+{
+	struct status_fact *f;
+
+	/* a message dropped for room takes its numbers with it */
+	if (!s->nmsg || s->dropped)
+		return;
+	f = &s->fact[s->nmsg - 1];
+	if (f->ncounts < STATUS_MAX_COUNTS)
+		f->counts[f->ncounts++] = (struct status_count){ key, val };
 }
 
 void status_add(struct status *s, enum level l, const char *fmt, ...)
@@ -22,6 +40,8 @@ void status_add(struct status *s, enum level l, const char *fmt, ...)
 		s->dropped++;
 		return;
 	}
+	s->fact[s->nmsg] = (struct status_fact){ .check = s->check ? s->check : "other",
+						 .level = l };
 	va_start(ap, fmt);
 	vsnprintf(s->msg[s->nmsg++], STATUS_MSG_LEN, fmt, ap);
 	va_end(ap);

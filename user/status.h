@@ -19,16 +19,37 @@ enum level {
 
 #define STATUS_MAX_MSGS	8
 #define STATUS_MSG_LEN	160
+#define STATUS_MAX_COUNTS 6
+
+/* A number a message is about, for machines: "minor_fault" 2. */
+struct status_count {
+	const char *key;	/* static text */
+	__u64 val;
+};
+
+/* What a machine reads of one message: which check, how bad, its numbers. */
+struct status_fact {
+	const char *check;	/* static text, e.g. "deadline_miss" (docs/json.md) */
+	enum level level;
+	int ncounts;
+	struct status_count counts[STATUS_MAX_COUNTS];
+};
 
 struct status {
 	enum level level;
 	int nmsg;
 	int dropped;	/* messages beyond STATUS_MAX_MSGS */
+	const char *check;	/* the check adding messages now (status_check) */
 	char msg[STATUS_MAX_MSGS][STATUS_MSG_LEN];
+	struct status_fact fact[STATUS_MAX_MSGS];
 };
 
 /* status_reset - OK, no messages */
 void status_reset(struct status *s);
+/* status_check - the messages added from now on are this check's */
+void status_check(struct status *s, const char *check);
+/* status_count - a number of the last message, for machines (JSON "counts") */
+void status_count(struct status *s, const char *key, __u64 val);
 /* status_add - add one message at a level; the worst level wins */
 void status_add(struct status *s, enum level l, const char *fmt, ...)
 	__attribute__((format(printf, 3, 4)));

@@ -85,6 +85,9 @@ static void add_violation(struct supervisor *s, const char *comp, const struct s
 	snprintf(v->component, sizeof(v->component), "%s", comp);
 	v->level = st->level;
 	status_join(st, v->what, sizeof(v->what));
+	v->nfact = st->nmsg;
+	memcpy(v->fact, st->fact, st->nmsg * sizeof(st->fact[0]));
+	memcpy(v->text, st->msg, st->nmsg * sizeof(st->msg[0]));
 }
 
 /* judge - a component's new status: log a change, keep violations */

@@ -20,6 +20,9 @@ struct violation {
 	char component[48];
 	enum level level;
 	char what[400];
+	int nfact;
+	struct status_fact fact[STATUS_MAX_MSGS];	/* per message: check, level, counts */
+	char text[STATUS_MAX_MSGS][STATUS_MSG_LEN];
 };
 
 #define SUPERVISE_MAX_VIOLATIONS 1000

@@ -12,11 +12,14 @@ from conftest import LOADGEN, ROOT, TRACE, Loadgen, Trace, threads_by_tid, uniqu
 pytestmark = pytest.mark.usefixtures("bpf")
 
 # Tolerant of what a loaded host does to timing (misses from stalls), strict on
-# what the program does: RT-unsafe events, deaths, scheduling.
+# what the program does: RT-unsafe events, deaths, scheduling. A noisy machine
+# may make a timing check WARN (TIMING_CHECKS); none of them can reach ERROR
+# here, and the tests judge the other checks by name (each violation lists its
+# checks: check, level, text, counts), never by the first message's wording.
 CLEAN = """
 defaults:
   thresholds:
-    deadline_miss: {warn: 50}
+    deadline_miss: {warn: 50, error_rate: 100%}
     exec_near_period: {warn: 1000%}
     starvation: {warn_periods: 0, error_periods: 0}
     overhead: {warn: 0%, error: 0%}
@@ -27,6 +30,21 @@ rules:
     policy: SCHED_FIFO
     priority: 80
 """
+
+
+TIMING_CHECKS = {"deadline_miss", "exec_near_period", "starvation", "latency", "jitter"}
+
+
+def checks_of(violations, component_prefix=None, check=None):
+    """Every check message of these violations, optionally of one component
+    (name before "[") and one check."""
+    return [dict(c, component=v["component"]) for v in violations for c in v["checks"]
+            if (component_prefix is None or v["component"].split("[")[0] == component_prefix)
+            and (check is None or c["check"] == check)]
+
+
+def not_timing(violations):
+    return [c for c in checks_of(violations) if c["check"] not in TIMING_CHECKS]
 
 
 def write(tmp_path, name, text):
@@ -54,14 +72,15 @@ def test_check_clean_command_exits_0(tmp_path):
     cfg = write(tmp_path, "rt.yaml", CLEAN.replace("PREFIX", prefix))
     code, summary, err, _ = run_check(
         ["--config", str(cfg), "--", str(LOADGEN), "--name", prefix, "-c", "1500"])
-    assert code == 0, err
     threads = loop_threads(summary, prefix)
     assert len(threads) == 2
     for t in threads:
         assert t["rule"] == "loop"
-        assert t["worst_level"] in ("OK", "STALE")
         assert t["total"]["cycles"] >= 1490
-    assert summary["violations"] == []
+    # nothing but timing, which a noisy machine may make WARN (never ERROR here)
+    assert not_timing(summary["violations"]) == [], summary["violations"]
+    assert {v["level"] for v in summary["violations"]} <= {"WARN"}
+    assert code == (2 if summary["violations"] else 0), err
 
 
 def test_check_faults_exit_2_with_messages(tmp_path):
@@ -71,12 +90,17 @@ def test_check_faults_exit_2_with_messages(tmp_path):
         ["--config", str(cfg), "--", str(LOADGEN), "--name", prefix, "-c", "1500",
          "-f", "mmap@600,thread=0", "-f", "pagefault:2@900,thread=1"])
     assert code == 2, err
-    what = {v["component"].split("[")[0]: v["what"] for v in summary["violations"]}
-    assert "RT-unsafe in the last interval: syscall 2" in what[prefix + "-0"]
-    assert "mmap 1" in what[prefix + "-0"] and "munmap 1" in what[prefix + "-0"]
-    assert "minor_fault 2" in what[prefix + "-1"]
-    levels = {v["level"] for v in summary["violations"]}
-    assert levels == {"WARN"}, summary["violations"]
+    v = summary["violations"]
+    # exactly the injected faults, one verdict each, by check and by count
+    unsafe0 = checks_of(v, prefix + "-0", "rt_unsafe")
+    unsafe1 = checks_of(v, prefix + "-1", "rt_unsafe")
+    assert [c["counts"] for c in unsafe0] == [{"syscall": 2}], v
+    assert "mmap 1" in unsafe0[0]["text"] and "munmap 1" in unsafe0[0]["text"]
+    assert [c["counts"] for c in unsafe1] == [{"minor_fault": 2}], v
+    assert {c["level"] for c in unsafe0 + unsafe1} == {"WARN"}
+    # anything else is timing from a noisy machine, never above WARN
+    assert [c for c in not_timing(v) if c["check"] != "rt_unsafe"] == [], v
+    assert {x["level"] for x in v} == {"WARN"}, v
     # the level change was logged on stderr: time, component, old -> new, why
     assert "%s-0[" % prefix in err and ": OK -> WARN: RT-unsafe" in err
     # --fail-on error ignores WARN
@@ -93,8 +117,11 @@ def test_check_error_for_wrong_policy_and_major_rule(tmp_path):
     code, summary, err, _ = run_check(
         ["--config", str(cfg), "--", str(LOADGEN), "--name", prefix, "-r", "0", "-c", "800"])
     assert code == 2
-    errors = [v for v in summary["violations"] if v["level"] == "ERROR"]
-    assert errors and all("policy SCHED_OTHER, expected SCHED_FIFO" in v["what"] for v in errors)
+    errors = [c for c in checks_of(summary["violations"]) if c["level"] == "ERROR"]
+    # every ERROR is the policy (timing cannot reach ERROR here), for each thread
+    assert errors and all(c["check"] == "scheduling" for c in errors), errors
+    assert all(c["text"] == "policy SCHED_OTHER, expected SCHED_FIFO" for c in errors)
+    assert {c["component"].split("[")[0] for c in errors} == {prefix + "-0", prefix + "-1"}
 
 
 def test_thread_death_is_an_error_and_says_so(tmp_path):
@@ -135,14 +162,17 @@ def test_sighup_reload_turns_ok_into_warn(tmp_path):
     assert "rt.yaml:2:3: unknown key 'perod'" in err
     assert "SIGHUP: keeping the previous rules" in err
     assert "SIGHUP: reloaded" in err
-    levels = [i["threads"][0]["status"]["level"] for i in intervals if i["threads"]
-              and i["threads"][0]["interval"]["cycles"] > 100]
-    assert levels[0] == "OK"
-    assert "WARN" in levels
-    first_warn = levels.index("WARN")
-    assert all(lv == "OK" for lv in levels[:first_warn])
-    warn = [i for i in intervals if i["threads"] and i["threads"][0]["status"]["level"] == "WARN"]
-    assert any("wakeup latency p99" in m for m in warn[0]["threads"][0]["status"]["messages"])
+    # the latency check exists only in the reloaded rules: absent, then present
+    # for good (timing checks of the old rules may WARN on a noisy machine)
+    lat = [any(c["check"] == "latency" for c in i["threads"][0]["status"]["checks"])
+           for i in intervals if i["threads"] and i["threads"][0]["interval"]["cycles"] > 100]
+    assert lat[0] is False and True in lat, lat
+    first = lat.index(True)
+    assert all(lat[first:]) and not any(lat[:first]), lat
+    warn = [c for i in intervals if i["threads"] for c in i["threads"][0]["status"]["checks"]
+            if c["check"] == "latency"]
+    assert warn and all(c["level"] == "WARN" and c["text"].startswith("wakeup latency p99")
+                        for c in warn)
     # statistics were not lost by the reload
     assert summary["threads"][0]["total"]["cycles"] >= 3900
 

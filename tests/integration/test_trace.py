@@ -440,3 +440,27 @@ def test_overhead_sampled_in_a_short_window(tmp_path):
     assert max(grew) < 1.0, "still on at %.3f s" % max(grew)
     pct = intervals[0]["supervisor"]["bpf_overhead_pct"]
     assert pct is not None and 0 < pct < 100, intervals[0]["supervisor"]
+
+
+def test_exit_never_crowded_out_by_a_flood_of_misses(tmp_path):
+    # every cycle overruns by 0.3 period: each is a deadline miss, ~3000 a thread in
+    # the one 10 s interval; a thread's exit in the middle must still be there
+    truth, intervals, summary = run_supervised(
+        tmp_path, ["-c", "3000", "-f", "overrun:%d/1" % (PERIOD_US * 13 // 10),
+                   "-f", "exit@1500,thread=1"],
+        ["-i", "10s"])
+    t0, t1 = truth["threads"]
+    assert t1["exited"] and t0["deadline_misses"] >= 2900
+    events = [e for i in intervals for e in i["events"]]
+    assert [e["tid"] for e in events if e["event"] == "exit"] == [t1["tid"]]
+    # the flood is folded, and says how much: kept + folded = every miss reported
+    assert all(i["lost_events"] == 0 for i in intervals)
+    got = threads_by_tid(summary)
+    for t in (t0, t1):
+        kept = sum(1 for e in events if e["event"] == "deadline_miss" and e["tid"] == t["tid"])
+        folded = sum(f["folded"] for i in intervals for f in i["events_folded"]
+                     if f["event"] == "deadline_miss" and f["tid"] == t["tid"])
+        assert kept + folded == got[t["tid"]]["total"]["deadline_misses"]
+        assert folded > 0
+    assert sum(i["events_not_shown"] for i in intervals) == sum(
+        f["folded"] for i in intervals for f in i["events_folded"])
