@@ -125,12 +125,12 @@ unit: $(UNIT_BINS)
 	$(Q)fail=0; for t in $(UNIT_BINS); do $$t || fail=1; done; exit $$fail
 
 integration: all
-	$(Q)$(PYTHON) -m pytest -v tests/integration
+	$(Q)$(PYTHON) -m pytest -v -rs --durations=15 tests/integration
 
 # The host integration tests with our own noise on every CPU (scripts/noise):
 # a SCHED_FIFO 99 thread per CPU burns 3 ms every 30 ms (+-25 %).
 test-noisy: all
-	$(Q)RTSUP_TEST_NOISE="-b 3ms -e 30ms" $(PYTHON) -m pytest -v tests/integration \
+	$(Q)RTSUP_TEST_NOISE="-b 3ms -e 30ms" $(PYTHON) -m pytest -v -rs tests/integration \
 		--ignore=tests/integration/test_guest.py --ignore=tests/integration/test_can.py \
 		--ignore=tests/integration/test_cansim.py \
 		--deselect tests/integration/test_robot.py::test_service_under_systemd_in_vm

@@ -492,6 +492,41 @@ static void test_checks_unsafe_warn_names(void **state)
 		   "(syscalls: mmap 1, munmap 1)");
 }
 
+/* every message says its check, its level and its numbers, for machines */
+static void test_checks_facts_name_check_and_counts(void **state)
+{
+	const struct status_fact *f;
+
+	W.misses = 20;
+	W.unsafe[RTSUP_U_SYSCALL] = 2;
+	W.unsafe[RTSUP_U_MINFLT] = 1;
+	W.unsafe_total = 3;
+	IN.policy = 0;		/* SCHED_OTHER */
+	R.policy = 1;
+	run();
+	assert_int_equal(S.nmsg, 3);
+	f = &S.fact[0];
+	assert_string_equal(f->check, CHECK_SCHED);
+	assert_int_equal(f->level, LEVEL_ERROR);
+	assert_int_equal(f->ncounts, 0);
+	f = &S.fact[1];
+	assert_string_equal(f->check, CHECK_MISS);
+	assert_int_equal(f->level, LEVEL_ERROR);
+	assert_int_equal(f->ncounts, 3);
+	assert_string_equal(f->counts[0].key, "deadline_misses");
+	assert_int_equal(f->counts[0].val, 20);
+	assert_string_equal(f->counts[2].key, "cycles");
+	assert_int_equal(f->counts[2].val, 1000);
+	f = &S.fact[2];
+	assert_string_equal(f->check, CHECK_UNSAFE);
+	assert_int_equal(f->level, LEVEL_WARN);
+	assert_int_equal(f->ncounts, 2);
+	assert_string_equal(f->counts[0].key, "syscall");
+	assert_int_equal(f->counts[0].val, 2);
+	assert_string_equal(f->counts[1].key, "minor_fault");
+	assert_int_equal(f->counts[1].val, 1);
+}
+
 static void test_checks_unsafe_warn_no_names(void **state)
 {
 	W.unsafe[RTSUP_U_BLOCK] = 1;
@@ -1092,6 +1127,7 @@ int main(void)
 		C(test_checks_starve_no_period_or_cycle),
 		C(test_checks_starve_error_off),
 		C(test_checks_unsafe_warn_names),
+		C(test_checks_facts_name_check_and_counts),
 		C(test_checks_unsafe_warn_no_names),
 		C(test_checks_unsafe_major_fault_error),
 		C(test_checks_unsafe_reason_threshold),
