@@ -66,8 +66,13 @@ def test_clean_load_period_and_cycles(tmp_path):
         assert g["policy"] == "SCHED_FIFO" and g["prio"] == 80
         check_thread_matches(t, g)
         tot = g["total"]
-        # no fault was injected: nothing unsafe, exec about the work time
-        assert tot["unsafe"]["total"] == 0, (tot["unsafe"], tot["context_switches"])
+        # no fault was injected: nothing unsafe but the migrations noise causes
+        # (a thread that never blocks inside its cycle leaves its CPU only
+        # when preempted: at most one migration per involuntary switch)
+        u = tot["unsafe"]
+        assert u["total"] == u["migration"], (u, tot["context_switches"])
+        assert u["migration"] <= tot["context_switches"]["involuntary"], (
+            u, tot["context_switches"])
         if not EMULATED:
             assert tot["exec_ns"]["p50"] == pytest.approx(100_000, rel=0.15)
         assert tot["cpu_ns"]["mean"] <= tot["exec_ns"]["mean"] * 1.01
