@@ -21,7 +21,23 @@ struct can_replay {
 	__u32 epoch;
 	__u64 start, last, next, step;
 	__u64 now;		/* log time of the last frame */
+	__u64 shift;		/* clock steps taken out of the log's time so far */
+	__u64 last_jump;	/* the clock step frame() just took out, for its note */
 };
+
+/*
+ * A jump forward by more than this many intervals with no frame is a clock
+ * step (a robot that boots in 1970 until NTP sets the clock), not silence:
+ * one silent interval per second of it would never end.
+ */
+#define CAN_REPLAY_MAX_SILENT 1000
+
+/* clock_step - the log time ts jumps this far past the next boundary, 0 if not a step */
+static __u64 clock_step(const struct can_replay *r, __u64 ts)
+{
+	return ts > r->next && (ts - r->next) / r->step > CAN_REPLAY_MAX_SILENT ?
+	       ts - r->now : 0;
+}
 
 /* iface_index - interfaces are numbered in order of appearance */
 static __u32 iface_index(struct can_replay *r, const char *name)
@@ -60,14 +76,22 @@ static void interval(struct can_replay *r, __u64 at, bool end)
 	r->last = at;
 }
 
-/* frame - one logged frame, accounted as the kernel accounts it */
-static int frame(struct can_replay *r, const struct candump_frame *f)
+/*
+ * frame - one logged frame, accounted as the kernel accounts it: 0, or -1
+ * when the time goes backwards, or 1 for a clock step (r->last_jump; call
+ * again for the same frame on the new time)
+ */
+static int frame(struct can_replay *r, const struct candump_frame *in)
 {
-	struct rtsup_can_key key = { .dir = f->dir == RTSUP_CAN_TX ? RTSUP_CAN_TX : RTSUP_CAN_RX };
+	struct rtsup_can_key key = { .dir = in->dir == RTSUP_CAN_TX ? RTSUP_CAN_TX : RTSUP_CAN_RX };
 	__u32 ewma_w = (__u32)(r->s->cfg.defaults.ewma_weight * RTSUP_EWMA_ONE + 0.5);
+	struct candump_frame shifted = *in;
+	const struct candump_frame *f = &shifted;
 	struct can_iface *ifs;
 	struct can_entry *e;
+	__u64 jump;
 
+	shifted.ts_ns -= r->shift;
 	if (!r->start) {
 		r->start = r->last = f->ts_ns;
 		r->next = f->ts_ns + r->step;
@@ -75,6 +99,13 @@ static int frame(struct can_replay *r, const struct candump_frame *f)
 	}
 	if (f->ts_ns < r->now)
 		return -1;	/* time goes backwards: not one log */
+	jump = r->start ? clock_step(r, f->ts_ns) : 0;
+	if (jump) {
+		/* the log goes on as if the clock had not stepped; said once per step */
+		r->shift += jump;
+		r->last_jump = jump;
+		return 1;
+	}
 	/* every interval boundary the log passed, even silent ones */
 	while (f->ts_ns >= r->next) {
 		interval(r, r->next, false);
@@ -115,6 +146,7 @@ int can_replay_run(const struct options *o, struct supervisor *s)
 	size_t lineno = 0;
 	FILE *in;
 	int ret = 1, n;
+	bool parsed;
 
 	memset(&r, 0, sizeof(r));
 	r.s = s;
@@ -138,11 +170,19 @@ int can_replay_run(const struct options *o, struct supervisor *s)
 		n = candump_parse(line, &f, err, sizeof(err));
 		if (n == 0)
 			continue;
-		if (n < 0 || frame(&r, &f)) {
+		parsed = n > 0;
+		if (parsed && (n = frame(&r, &f)) == 1) {
+			/* a clock step: a note, and the frame is taken on the new time */
+			fprintf(stderr, "rtsup-trace: %s:%zu: the log's time jumps forward by %.0f s "
+				"(a clock step?): replay goes on as if it had not\n",
+				o->can_replay_path, lineno, r.last_jump / 1e9);
+			n = frame(&r, &f);
+		}
+		if (n < 0) {
 			char msg[512];
 
 			snprintf(msg, sizeof(msg), "%s:%zu: %s", o->can_replay_path, lineno,
-				 n < 0 ? err : "timestamp goes backwards");
+				 parsed ? "timestamp goes backwards" : err);
 			output_error(o, msg);
 			goto out;
 		}

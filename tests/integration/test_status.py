@@ -291,3 +291,23 @@ def test_check_config():
     line = r.stderr.strip()
     assert line.startswith("rtsup-trace: ") and "bad-duration.yaml:" in line
     assert "bad duration" in line
+
+
+def test_can_replay_clock_step_finishes(tmp_path):
+    """A robot with no battery-backed clock logs from 1970 until NTP steps the
+    clock: the replay notes the step and goes on, it does not report one
+    silent interval per second of the gap."""
+    lines = ["(%.6f) vcan0 123#0011" % (1000 + k * 0.01) for k in range(300)]
+    lines += ["(%.6f) vcan0 123#0011" % (1000000000 + k * 0.01) for k in range(300)]
+    log = tmp_path / "step.log"
+    log.write_text("\n".join(lines) + "\n")
+    r = subprocess.run([str(TRACE), "can-replay", str(log), "-j"], capture_output=True,
+                       text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+    notes = r.stderr.strip().splitlines()
+    assert len(notes) == 1 and notes[0].startswith("rtsup-trace: %s:301: " % log), notes
+    assert "jumps forward by 999998997 s" in notes[0]
+    objs = [json.loads(x) for x in r.stdout.splitlines()]
+    intervals = [o for o in objs if o["type"] == "interval"]
+    # 6 s of frames, as if contiguous: 6 or 7 intervals of 1 s, not a billion
+    assert 5 <= len(intervals) <= 8, len(intervals)
