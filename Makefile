@@ -72,6 +72,14 @@ $(OUT)/syscall_table.h: scripts/gen-syscalls | $(OUT)
 	$(call msg,GEN,$@)
 	$(Q)CC="$(CC)" scripts/gen-syscalls > $@
 
+# Each architecture's table, for the unit test that checks them.
+$(OUT)/syscall_table_%.h: scripts/gen-syscalls | $(OUT)
+	$(call msg,GEN,$@)
+	$(Q)CC="$(CC)" scripts/gen-syscalls $* > $@
+
+$(OUT)/tests/test_syscall_tables: $(OUT)/syscall_table_x86_64.h $(OUT)/syscall_table_i386.h \
+	$(OUT)/syscall_table_arm64.h
+
 $(USER_OBJS): $(OUT)/rtsup.skel.h $(OUT)/rtsup_empty.skel.h $(OUT)/syscall_table.h
 
 $(OUT)/user/%.o: user/%.c | $(OUT)/user
