@@ -146,14 +146,85 @@ static void merge_gap(struct metric_view *into, const struct metric_view *v)
 	into->count += v->count;
 }
 
-/* learn - an identifier's period from its first seconds of gaps */
-static void learn(struct can_entry *e, const struct can_thresholds *th, __u64 now)
+/*
+ * Learning a period. A period is learned from a steady run only: at least
+ * CAN_LEARN_MIN_GAPS gaps over the learning time, each within a factor
+ * CAN_STEADY of their mean, frames still coming at its end. A burst (an SDO
+ * transfer, a request and its answers) is no run: it would teach a period
+ * its silence then breaks forever. A learned period is dropped after
+ * CAN_UNLEARN intervals in a row of unsteady gaps (traffic turned sporadic);
+ * silence keeps it, since silence is what "not responding" is about.
+ */
+#define CAN_LEARN_MIN_GAPS	8
+#define CAN_STEADY		3
+#define CAN_UNLEARN		3
+
+/* can_gaps_steady - are gaps of this min and max steady around 'mean'? */
+static bool can_gaps_steady(__u64 min, __u64 max, double mean)
 {
-	if (e->learned || !e->cur.frames || e->cur.gap.count < 3)
+	return max <= CAN_STEADY * mean && min * CAN_STEADY >= mean;
+}
+
+/* can_sporadic_cobid - CANopen identifiers that are sporadic by nature */
+static bool can_sporadic_cobid(__u32 id)
+{
+	if (id & RTSUP_CAN_EFF_FLAG)
+		return false;
+	return id == 0x000 ||				/* NMT */
+	       (id >= 0x081 && id <= 0x0ff) ||		/* EMCY */
+	       (id >= 0x581 && id <= 0x5ff) ||		/* SDO responses */
+	       (id >= 0x601 && id <= 0x67f) ||		/* SDO requests */
+	       id == 0x7e4 || id == 0x7e5;		/* LSS */
+}
+
+/* learn_restart - a new learning run from 'now' */
+static void learn_restart(struct can_learn *l, __u64 now)
+{
+	memset(l, 0, sizeof(*l));
+	l->since = now;
+}
+
+/* learn - one interval of an identifier's gaps: learn, keep or drop its period */
+static void learn(struct can_entry *e, const struct can_thresholds *th, bool canopen,
+		  const struct metric_view *gap, __u64 now)
+{
+	struct can_learn *l = &e->learning;
+	double mean;
+
+	if (canopen && can_sporadic_cobid(e->key.can_id))
 		return;
-	if (now - e->cur.first < th->learn_s * 1e9)
+	if (e->learned) {
+		if (!gap->count)
+			return;
+		l->irregular = can_gaps_steady(gap->min, gap->max, e->learned) ? 0 :
+			       l->irregular + 1;
+		if (l->irregular >= CAN_UNLEARN) {
+			e->learned = 0;
+			learn_restart(l, now);
+		}
 		return;
-	e->learned = e->cur.gap.sum / e->cur.gap.count;
+	}
+	if (!l->since) {
+		if (!e->cur.frames)
+			return;
+		l->since = e->cur.first;
+	}
+	if (gap->count) {
+		if (!l->count || gap->min < l->min)
+			l->min = gap->min;
+		if (gap->max > l->max)
+			l->max = gap->max;
+		l->count += gap->count;
+		l->sum += gap->mean * gap->count;
+	}
+	if (now - l->since < th->learn_s * 1e9)
+		return;
+	mean = l->count ? l->sum / l->count : 0;
+	if (l->count >= CAN_LEARN_MIN_GAPS && can_gaps_steady(l->min, l->max, mean) &&
+	    now - e->cur.last <= CAN_STEADY * mean)
+		e->learned = (__u64)(mean + 0.5);
+	else
+		learn_restart(l, now);	/* not a steady run: look again */
 }
 
 /* check_responding - not responding and gap jitter of one component */
@@ -363,8 +434,8 @@ void can_model_judge(struct can_model *m, const struct config *cfg, __u64 now,
 		e->node = config_can_node(cfg, can_iface_name(m, e->key.ifindex), e->key.can_id,
 					  e->key.dir);
 		th = e->node >= 0 ? &cc->nodes[e->node].th : &cc->defaults;
-		learn(e, th, now);
 		gap_window(m, e, &gap);
+		learn(e, th, cc->canopen, &gap, now);
 		if (cc->canopen)
 			canopen_update(m, e);
 		if (e->node >= 0) {

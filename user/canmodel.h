@@ -19,8 +19,18 @@
 #define CANMODEL_MAX_IFS	16
 #define CANOPEN_NODES		128
 
+/* Learning an identifier's period: the gaps of a run of intervals (canmodel.c learn). */
+struct can_learn {
+	__u64 since;			/* start of this learning run, 0 = not started */
+	__u64 count;			/* gaps seen in the run */
+	double sum;			/* their sum, ns */
+	__u64 min, max;			/* the smallest and largest */
+	__u32 irregular;		/* learned: intervals in a row whose gaps were not steady */
+};
+
 struct can_entry {
 	struct rtsup_can_key key;
+	struct can_learn learning;
 	struct rtsup_can_id cur;
 	struct rtsup_can_id prev;	/* one interval ago */
 	bool have_prev;

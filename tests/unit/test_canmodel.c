@@ -428,25 +428,95 @@ static void test_unnamed_learn_then_silent(void **state)
 	assert_int_equal(e->worst, LEVEL_ERROR);
 }
 
-static void test_unnamed_learn_needs_gaps(void **state)
+/* a burst is no period: it would make the silence after it "not responding" forever */
+static void test_unnamed_burst_not_learned(void **state)
 {
 	struct fx *f = *state;
 	struct can_entry *e;
 	__u64 t = 1 * SEC;
 
 	iface(f, 3, "vcan0", 0);
-	/* three frames, two gaps: never learned, however long it waits */
-	frame(f, 3, RX, 0x321, t, NULL, 1);
-	feed(f, 3, RX, 0x321, &t, 100 * MS, 2);
-	judge(f, 10 * SEC, 9.0);
+	/* an SDO-like exchange: 10 frames 1 ms apart, then nothing for 9 s */
+	feed(f, 3, RX, 0x321, &t, 1 * MS, 10);
+	judge(f, 2 * SEC, 1.0);
+	judge(f, 10 * SEC, 8.0);
 	e = can_entry_get(&f->m, &(struct rtsup_can_key){ 3, 0x321, RX }, false);
 	assert_int_equal(e->learned, 0);
 	expect(f, "vcan0 0x321 rx", LEVEL_OK, NULL);
-	/* the third gap: learned as the mean gap, then judged on it */
-	frame(f, 3, RX, 0x321, 10 * SEC + 700 * MS, NULL, 1);
-	judge(f, 10 * SEC + 701 * MS, 0.7);
-	assert_int_equal(e->learned, (200 * MS + 9500 * MS) / 3);
+	/* three gaps of 100 ms, 100 ms and 9.5 s: not steady, not learned */
+	t = 10 * SEC;
+	feed(f, 3, RX, 0x321, &t, 100 * MS, 2);
+	frame(f, 3, RX, 0x321, 19 * SEC + 700 * MS, NULL, 1);
+	judge(f, 19 * SEC + 701 * MS, 9.7);
+	judge(f, 30 * SEC, 10.3);
+	assert_int_equal(e->learned, 0);
 	expect(f, "vcan0 0x321 rx", LEVEL_OK, NULL);
+}
+
+/* a learned period is dropped when the traffic turns sporadic, and learned again */
+static void test_unnamed_unlearned_when_sporadic(void **state)
+{
+	struct fx *f = *state;
+	struct can_entry *e;
+	__u64 t = 1 * SEC - 10 * MS, now;
+	int k;
+
+	iface(f, 3, "vcan0", 0);
+	feed(f, 3, RX, 0x124, &t, 10 * MS, 300);	/* 1.00 .. 3.99 s, steady */
+	judge(f, 4 * SEC, 3.0);
+	e = can_entry_get(&f->m, &(struct rtsup_can_key){ 3, 0x124, RX }, false);
+	assert_int_equal(e->learned, 10 * MS);
+	/* now bursts: 5 frames 1 ms apart every 400 ms, for three 1 s intervals */
+	for (now = 5 * SEC, k = 0; k < 3; k++, now += SEC) {
+		int b;
+
+		for (b = 0; b < 2; b++) {
+			t = now - SEC + b * 400 * MS + 100 * MS;
+			feed(f, 3, RX, 0x124, &t, 1 * MS, 5);
+		}
+		judge(f, now, 1.0);
+		/* two intervals of bursts: still the old period, "not responding" */
+		if (k < 2)
+			assert_int_equal(e->learned, 10 * MS);
+	}
+	/* the third: dropped, nothing judged any more */
+	assert_int_equal(e->learned, 0);
+	expect(f, "vcan0 0x124 rx", LEVEL_OK, NULL);
+	/*
+	 * steady again, 1 s intervals: the first interval holds the gap from
+	 * the bursts, so that run fails; the next run of 2 s learns
+	 */
+	t = now - SEC;
+	for (k = 0; k < 4; k++) {
+		feed(f, 3, RX, 0x124, &t, 20 * MS, 50);
+		judge(f, t + 1 * MS, 1.0);
+		assert_int_equal(e->learned, k < 3 ? 0 : 20 * MS);
+	}
+}
+
+/* CANopen: SDO, NMT, LSS and EMCY identifiers are sporadic, never learned */
+static void test_canopen_sporadic_ids_never_learned(void **state)
+{
+	struct fx *f = *state;
+	/* the last is a PDO: learned as any identifier */
+	static const __u32 ids[] = { 0x000, 0x085, 0x585, 0x605, 0x7e4, 0x185 };
+	__u64 t;
+	size_t i, n = sizeof(ids) / sizeof(ids[0]);
+
+	load_cfg(f, "can:\n  canopen: true\n");
+	iface(f, 1, "can0", 0);
+	for (i = 0; i < n; i++) {
+		t = 1 * SEC;
+		feed(f, 1, RX, ids[i], &t, 10 * MS, 300);	/* steady, even */
+	}
+	judge(f, t + 1 * MS, 3.0);
+	for (i = 0; i < n; i++) {
+		struct can_entry *e = can_entry_get(&f->m,
+			&(struct rtsup_can_key){ 1, ids[i], RX }, false);
+
+		assert_non_null(e);
+		assert_int_equal(e->learned, i == n - 1 ? 10 * MS : 0);
+	}
 }
 
 /* --- configured nodes and groups --- */
@@ -1146,7 +1216,9 @@ int main(void)
 		T(test_component_name),
 		T(test_model_next),
 		T(test_unnamed_learn_then_silent),
-		T(test_unnamed_learn_needs_gaps),
+		T(test_unnamed_burst_not_learned),
+		T(test_unnamed_unlearned_when_sporadic),
+		T(test_canopen_sporadic_ids_never_learned),
 		T(test_node_never_seen),
 		T(test_node_range_aggregates),
 		T(test_group_worst_node),
