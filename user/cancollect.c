@@ -45,6 +45,24 @@ __u64 can_bitrate(__u32 ifindex)
 	return rate;
 }
 
+/* can_link - netlink's word on an interface: up, and the controller's state (-1: none) */
+static void can_link(struct can_iface *f)
+{
+	struct nl_sock *sk = nl_socket_alloc();
+	struct rtnl_link *link = NULL;
+	uint32_t state;
+
+	if (!sk)
+		return;
+	if (!nl_connect(sk, NETLINK_ROUTE) &&
+	    !rtnl_link_get_kernel(sk, f->ifindex, NULL, &link))
+		can_iface_link(f, rtnl_link_get_flags(link) & IFF_UP,
+			       rtnl_link_is_can(link) && !rtnl_link_can_state(link, &state) ?
+			       (int)state : -1);
+	rtnl_link_put(link);
+	nl_socket_free(sk);
+}
+
 /* take_if - one interface's counters; its name and bitrate when first seen */
 static void take_if(struct can_model *m, __u32 ifindex, const struct rtsup_can_if *v,
 		    const struct options *o, const struct config *cfg)
@@ -65,6 +83,7 @@ static void take_if(struct can_model *m, __u32 ifindex, const struct rtsup_can_i
 	else if (!f->bitrate)
 		f->bitrate = cfg->can.bitrate;
 	f->cur = *v;
+	can_link(f);
 }
 
 /* can_if_seen - has the kernel counted anything on this slot? */

@@ -68,8 +68,54 @@ struct can_iface *can_iface_get(struct can_model *m, __u32 ifindex, bool create)
 	memset(&m->ifs[m->nifs], 0, sizeof(m->ifs[0]));
 	m->ifs[m->nifs].ifindex = ifindex;
 	m->ifs[m->nifs].load = -1;
+	m->ifs[m->nifs].ctrl_state = -1;
 	snprintf(m->ifs[m->nifs].name, sizeof(m->ifs[0].name), "if%u", ifindex);
 	return &m->ifs[m->nifs++];
+}
+
+void can_iface_link(struct can_iface *f, bool up, int ctrl_state)
+{
+	/* only a down we saw: error frames from before we first looked still count */
+	if (up && f->link_known && !f->link_up)
+		f->err_mark = f->cur.err_frames;
+	f->link_known = true;
+	f->link_up = up;
+	f->ctrl_state = ctrl_state;
+}
+
+/* CAN_STATE_* of <linux/can/netlink.h> */
+#define CAN_STATE_ERROR_PASSIVE_	2
+#define CAN_STATE_BUS_OFF_		3
+#define CAN_STATE_STOPPED_		4
+
+enum can_ctrl can_iface_ctrl(const struct can_iface *f)
+{
+	__u8 crtl = f->cur.err_data[1];
+
+	if (f->link_known && !f->link_up)
+		return CAN_CTRL_DOWN;
+	if (f->ctrl_state >= 0) {
+		/* the controller's own word beats any old error frame */
+		if (f->ctrl_state == CAN_STATE_BUS_OFF_)
+			return CAN_CTRL_BUSOFF;
+		if (f->ctrl_state == CAN_STATE_STOPPED_)
+			return CAN_CTRL_DOWN;
+		/* netlink does not say which side is passive: the last frame may */
+		if (f->ctrl_state == CAN_STATE_ERROR_PASSIVE_)
+			return crtl & RTSUP_CAN_ERR_CRTL_TX_PASSIVE ? CAN_CTRL_PASSIVE_TX :
+								     CAN_CTRL_PASSIVE_RX;
+		return CAN_CTRL_OK;
+	}
+	/* a vcan or a replay: the last error frame since the link came up */
+	if (f->cur.err_frames <= f->err_mark)
+		return CAN_CTRL_OK;
+	if (f->cur.err_id & RTSUP_CAN_ERR_BUSOFF)
+		return CAN_CTRL_BUSOFF;
+	if ((f->cur.err_id & RTSUP_CAN_ERR_CRTL) &&
+	    (crtl & (RTSUP_CAN_ERR_CRTL_RX_PASSIVE | RTSUP_CAN_ERR_CRTL_TX_PASSIVE)))
+		return crtl & RTSUP_CAN_ERR_CRTL_TX_PASSIVE ? CAN_CTRL_PASSIVE_TX :
+							     CAN_CTRL_PASSIVE_RX;
+	return CAN_CTRL_OK;
 }
 
 const char *can_iface_name(const struct can_model *m, __u32 ifindex)
@@ -260,15 +306,13 @@ static void check_responding(struct status *st, const struct can_thresholds *th,
 /* check_iface - bus load, error frames, error-passive and bus-off */
 static void check_iface(struct can_iface *f, const struct can_config *cc, double interval_s)
 {
-	__u64 bits = f->cur.bits[0] + f->cur.bits[1], err = f->cur.err_frames, busoff;
-	__u8 crtl = f->cur.err_data[1];
+	__u64 bits = f->cur.bits[0] + f->cur.bits[1], err = f->cur.err_frames;
+	enum can_ctrl ctrl = can_iface_ctrl(f);
 
 	if (f->have_prev) {
 		bits -= f->prev.bits[0] + f->prev.bits[1];
 		err -= f->prev.err_frames;
 	}
-	/* bus-off, like error-passive, is the state the last error frame reported */
-	busoff = f->cur.err_frames && (f->cur.err_id & RTSUP_CAN_ERR_BUSOFF);
 	f->load = f->bitrate && interval_s > 0 ? bits / (interval_s * f->bitrate) : -1;
 	status_reset(&f->st);
 	status_check(&f->st, "can_bus");
@@ -284,13 +328,13 @@ static void check_iface(struct can_iface *f, const struct can_config *cc, double
 	else if (cc->err_warn && err >= cc->err_warn)
 		status_add(&f->st, LEVEL_WARN, "%llu error frames in the last interval",
 			   (unsigned long long)err);
-	if (busoff)
+	if (ctrl == CAN_CTRL_DOWN)
+		status_add(&f->st, LEVEL_ERROR, "interface down");
+	else if (ctrl == CAN_CTRL_BUSOFF)
 		status_add(&f->st, LEVEL_ERROR, "bus-off");
-	/* the controller's state is what its last error frame said (CAN_ERR_CRTL) */
-	else if (f->cur.err_frames && (f->cur.err_id & RTSUP_CAN_ERR_CRTL) &&
-		 (crtl & (RTSUP_CAN_ERR_CRTL_RX_PASSIVE | RTSUP_CAN_ERR_CRTL_TX_PASSIVE)))
+	else if (ctrl == CAN_CTRL_PASSIVE_RX || ctrl == CAN_CTRL_PASSIVE_TX)
 		status_add(&f->st, LEVEL_WARN, "controller error-passive (%s)",
-			   crtl & RTSUP_CAN_ERR_CRTL_TX_PASSIVE ? "tx" : "rx");
+			   ctrl == CAN_CTRL_PASSIVE_TX ? "tx" : "rx");
 }
 
 /* canopen_update - the CANopen view of one entry (11-bit ids only) */

@@ -48,6 +48,10 @@ struct can_iface {
 	struct rtsup_can_if prev;
 	bool have_prev;
 	double load;			/* bus load of the last interval, ratio; <0 unknown */
+	/* the link as netlink says (can_iface_link); unknown in a replay */
+	bool link_known, link_up;
+	int ctrl_state;			/* CAN_STATE_* of a real controller, -1 none (vcan) */
+	__u64 err_mark;			/* error frames before the link last came up */
 	struct status st;
 	enum level worst;
 };
@@ -108,6 +112,29 @@ struct can_model {
 /* can_entry_get - the entry of a key, created when 'create' */
 struct can_entry *can_entry_get(struct can_model *m, const struct rtsup_can_key *k,
 				bool create);
+/*
+ * can_iface_link - what netlink says of the interface now: up or down, and
+ * the controller's CAN_STATE_* (-1: none, a vcan). A link that comes up
+ * again (ip link down/up, a restart, a re-plugged adapter) forgets what
+ * earlier error frames said of the controller.
+ */
+void can_iface_link(struct can_iface *f, bool up, int ctrl_state);
+
+/* Controller states rtsup judges, worst last. */
+enum can_ctrl {
+	CAN_CTRL_OK,
+	CAN_CTRL_PASSIVE_RX,
+	CAN_CTRL_PASSIVE_TX,
+	CAN_CTRL_BUSOFF,
+	CAN_CTRL_DOWN,
+};
+
+/*
+ * can_iface_ctrl - the controller's state: netlink's where the controller
+ * reports one, else what the last error frame since the link came up said
+ */
+enum can_ctrl can_iface_ctrl(const struct can_iface *f);
+
 /* can_iface_get - the interface, created when 'create' */
 struct can_iface *can_iface_get(struct can_model *m, __u32 ifindex, bool create);
 /* can_model_next - end of an interval: current snapshots become previous */

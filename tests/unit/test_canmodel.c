@@ -901,6 +901,60 @@ static void test_iface_bus_off(void **state)
 	assert_int_equal(can_worst(&f->m), LEVEL_ERROR);
 }
 
+/* a link that comes down and up again (a restart, a re-plug) is a new controller */
+static void test_iface_bus_off_cleared_by_link_up(void **state)
+{
+	struct fx *f = *state;
+	struct can_iface *i;
+
+	iface(f, 1, "vcan0", 0);
+	i = can_iface_get(&f->m, 1, false);
+	can_iface_link(i, true, -1);		/* a vcan: no controller state */
+	err_frames(f, 1, RTSUP_CAN_ERR_BUSOFF, 0, 1, 1 * SEC);
+	can_iface_link(i, true, -1);
+	judge(f, 2 * SEC, 1.0);
+	expect(f, "vcan0", LEVEL_ERROR, "bus-off");
+	can_iface_link(i, false, -1);
+	judge(f, 3 * SEC, 1.0);
+	expect(f, "vcan0", LEVEL_ERROR, "interface down");
+	assert_int_equal(verdict(f, "vcan0")->nmsg, 1);
+	/* up again, no error frame since: what the old one said is gone */
+	can_iface_link(i, true, -1);
+	judge(f, 4 * SEC, 1.0);
+	expect(f, "vcan0", LEVEL_OK, NULL);
+	/* a new bus-off after that counts again */
+	err_frames(f, 1, RTSUP_CAN_ERR_BUSOFF, 0, 1, 4100 * MS);
+	can_iface_link(i, true, -1);
+	judge(f, 5 * SEC, 1.0);
+	expect(f, "vcan0", LEVEL_ERROR, "bus-off");
+}
+
+/* a real controller says its state: that beats the last error frame */
+static void test_iface_controller_state_from_netlink(void **state)
+{
+	struct fx *f = *state;
+	struct can_iface *i;
+
+	iface(f, 1, "can0", 0);
+	f->cfg.can.err_warn = 0;
+	f->cfg.can.err_error = 0;
+	i = can_iface_get(&f->m, 1, false);
+	err_frames(f, 1, RTSUP_CAN_ERR_BUSOFF, 0, 1, 1 * SEC);
+	can_iface_link(i, true, 3);		/* CAN_STATE_BUS_OFF */
+	judge(f, 2 * SEC, 1.0);
+	expect(f, "can0", LEVEL_ERROR, "bus-off");
+	/* restarted by the driver (restart-ms) with no error frame: active again */
+	can_iface_link(i, true, 0);		/* CAN_STATE_ERROR_ACTIVE */
+	judge(f, 3 * SEC, 1.0);
+	expect(f, "can0", LEVEL_OK, NULL);
+	can_iface_link(i, true, 2);		/* CAN_STATE_ERROR_PASSIVE */
+	judge(f, 4 * SEC, 1.0);
+	expect(f, "can0", LEVEL_WARN, "controller error-passive");
+	can_iface_link(i, true, 4);		/* CAN_STATE_STOPPED */
+	judge(f, 5 * SEC, 1.0);
+	expect(f, "can0", LEVEL_ERROR, "interface down");
+}
+
 static void test_iface_error_passive(void **state)
 {
 	struct fx *f = *state;
@@ -1229,6 +1283,8 @@ int main(void)
 		T(test_iface_bus_load_frames),
 		T(test_iface_error_frames),
 		T(test_iface_bus_off),
+		T(test_iface_bus_off_cleared_by_link_up),
+		T(test_iface_controller_state_from_netlink),
 		T(test_iface_error_passive),
 		T(test_canopen_heartbeat),
 		T(test_canopen_heartbeat_after_now),
