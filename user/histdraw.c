@@ -33,6 +33,14 @@ static int row_of(__u64 v, int per_decade)
 	return i;
 }
 
+/* bucket_row - the row of kernel bucket b: the one its middle falls in */
+static int bucket_row(int b, int per_decade)
+{
+	__u64 lo = hist_bucket_low(b);
+
+	return row_of(lo + (hist_bucket_high(b) - lo) / 2, per_decade);
+}
+
 /* span - first and last row that hold counts, -1 when none */
 static int span(const __u64 *h, int per_decade, int *first, int *last)
 {
@@ -43,8 +51,8 @@ static int span(const __u64 *h, int per_decade, int *first, int *last)
 		if (!h[b])
 			continue;
 		if (*first < 0)
-			*first = row_of(hist_bucket_low(b), per_decade);
-		*last = row_of(hist_bucket_low(b), per_decade);
+			*first = bucket_row(b, per_decade);
+		*last = bucket_row(b, per_decade);
 	}
 	return *first;
 }
@@ -84,7 +92,7 @@ int histdraw_rows(const __u64 *h, const __u64 *mark, struct hd_row *rows, int ma
 
 		if (!h[b])
 			continue;
-		r = row_of(hist_bucket_low(b), pd);
+		r = bucket_row(b, pd);
 		if (r < first)
 			r = first;	/* cut off at the top of the tail (decades only) */
 		rows[r - first].count += h[b];

@@ -36,8 +36,9 @@ struct hd_row {
 /*
  * histdraw_rows - the kernel buckets h regrouped into at most max rows,
  * trimmed of empty rows at both ends but stretched to the thresholds when
- * that still fits. A kernel bucket counts in the row of its lowest value
- * (its bounds are 1/8 of a power of two apart, the rows' are not). Returns
+ * that still fits. A kernel bucket counts in the row of its middle (its
+ * bounds are 1/8 of a power of two apart, the rows' are not: a row may be
+ * off by half a kernel bucket, 1/16 of the value, at each end). Returns
  * the number of rows, 0 when h is empty.
  */
 int histdraw_rows(const __u64 *h, const __u64 *mark, struct hd_row *rows, int max);

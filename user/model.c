@@ -261,8 +261,9 @@ void span_window(const struct rtsup_thread *cur, const struct rtsup_thread *prev
  * The kernel's __u32 buckets wrap after 2^32 values (49 days at 1 kHz in
  * one bucket); a difference of two snapshots is right modulo 2^32 as long
  * as an interval holds fewer than 2^32 values per bucket, so the sums are
- * right for a lifetime. Returns -1 when out of memory (the kernel's
- * buckets are used then).
+ * right for a lifetime. Returns -1 when there is none: a thread without
+ * cycles has empty buckets and needs no memory, and when out of memory the
+ * kernel's buckets are used.
  */
 static int life_add(struct thread_model *tm, const struct rtsup_thread *t,
 		    const struct rtsup_thread *prev)
@@ -270,6 +271,8 @@ static int life_add(struct thread_model *tm, const struct rtsup_thread *t,
 	__u64 d[HIST_BUCKETS];
 	int i, b;
 
+	if (!tm->life_hist && !t->cycles)
+		return -1;
 	if (!tm->life_hist) {
 		tm->life_hist = calloc(1, sizeof(*tm->life_hist));
 		if (!tm->life_hist)
@@ -282,8 +285,10 @@ static int life_add(struct thread_model *tm, const struct rtsup_thread *t,
 		memset(tm->life_hist, 0, sizeof(*tm->life_hist));
 	for (i = 0; i < RTSUP_M_NR; i++) {
 		hist_delta(t->m[i].hist, prev ? prev->m[i].hist : NULL, d);
-		for (b = 0; b < HIST_BUCKETS; b++)
+		for (b = 0; b < HIST_BUCKETS; b++) {
 			tm->life_hist->h[i][b] += d[b];
+			tm->life_hist->win[i][b] = (__u32)d[b];
+		}
 	}
 	return 0;
 }
@@ -309,6 +314,8 @@ void model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank
 void model_idle(struct thread_model *tm)
 {
 	memset(&tm->win, 0, sizeof(tm->win));
+	if (tm->life_hist)
+		memset(tm->life_hist->win, 0, sizeof(tm->life_hist->win));
 }
 
 /* find - binary search in the tid-sorted array */

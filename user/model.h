@@ -14,10 +14,12 @@
 
 /*
  * Lifetime bucket counts of a thread's metrics, summed from interval
- * differences: the kernel's __u32 buckets wrap, these do not.
+ * differences: the kernel's __u32 buckets wrap, these do not. And the last
+ * interval's counts, for the histograms of an interval (--hist-interval).
  */
 struct life_hist {
 	__u64 h[RTSUP_M_NR][HIST_BUCKETS];
+	__u32 win[RTSUP_M_NR][HIST_BUCKETS];
 };
 
 /* One metric, in ns, over a window or a lifetime. */

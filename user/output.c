@@ -7,6 +7,7 @@
 #include <unistd.h>
 #include <jansson.h>
 #include "output.h"
+#include "output_hist.h"
 #include "syscalls.h"
 #include "output_can.h"
 
@@ -137,6 +138,10 @@ static json_t *json_thread(const struct collector *c, const struct supervisor *s
 	if (window)
 		json_object_set_new(o, "interval", json_span(&tm->win, tm, true));
 	json_object_set_new(o, "total", json_span(&tm->life, tm, false));
+	/* --hist: the summary's lifetime ones, and each interval's with --hist-interval */
+	if (c->o->hist && hist_shown(tm) && (!window || c->o->hist_interval))
+		json_object_set_new(json_object_get(o, window ? "interval" : "total"), "hist",
+				    hist_json(tm, c->o->hist, window));
 	return o;
 }
 
@@ -483,6 +488,8 @@ static void table_interval(const struct collector *c, const struct supervisor *s
 		printf("  ... %llu more events\n",
 		       (unsigned long long)(c->nevents - shown + c->events_over));
 	printf("\n");
+	if (c->o->hist_interval)
+		hist_table(c, sv, true);
 	fflush(stdout);
 }
 
@@ -535,6 +542,10 @@ static void table_summary(const struct collector *c, const struct supervisor *sv
 		fmt_time(c, sv->v[i].mono_ns, when, sizeof(when));
 		printf("  %s %-5s %s: %s\n", when + 11, level_name(sv->v[i].level),
 		       sv->v[i].component, sv->v[i].what);
+	}
+	if (c->o->hist) {
+		printf("\n");
+		hist_table(c, sv, false);
 	}
 	fflush(stdout);
 }

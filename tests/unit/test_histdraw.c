@@ -74,6 +74,19 @@ static void test_histdraw_rows_to_threshold(void **state)
 	assert_int_equal(r[5].hi, 10 * MS);
 }
 
+/* 100 us sits in kernel bucket 98304..106495: drawn in the row of its middle */
+static void test_histdraw_rows_straddle(void **state)
+{
+	struct hd_row r[HD_MAX_ROWS];
+
+	memset(h, 0, sizeof(h));
+	h[hist_bucket(100 * US)] = 5;
+	assert_true(hist_bucket_low(hist_bucket(100 * US)) < 100 * US);
+	assert_int_equal(histdraw_rows(h, NULL, r, HD_MAX_ROWS), 1);
+	assert_int_equal(r[0].lo, 100 * US);
+	assert_int_equal(r[0].count, 5);
+}
+
 /* empty histogram: a title and no rows */
 static void test_histdraw_empty(void **state)
 {
@@ -143,6 +156,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test_setup(test_histdraw_rows_trimmed, setup),
 		cmocka_unit_test_setup(test_histdraw_rows_to_threshold, setup),
+		cmocka_unit_test_setup(test_histdraw_rows_straddle, setup),
 		cmocka_unit_test_setup(test_histdraw_empty, setup),
 		cmocka_unit_test_setup(test_histdraw_lines_scale_marks, setup),
 		cmocka_unit_test(test_histdraw_fmt),

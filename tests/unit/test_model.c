@@ -495,6 +495,7 @@ static void test_model_life_hist_wrap(void **state)
 	metric_init(s);
 	s->hist[b] = 0xFFFFFFF0;
 	s->count = 0xFFFFFFF0;
+	t->cur.cycles = s->count;
 	s->min = 1 * MS;
 	s->max = 1 * MS;
 	model_set(tm, &t->cur, 0);

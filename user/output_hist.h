@@ -1,0 +1,24 @@
+/* SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause */
+/*
+ * output_hist.h - the --hist sink: per judged thread, the histograms of
+ * the chosen metrics, drawn on the terminal (histdraw) or as JSON.
+ */
+#ifndef RTSUP_OUTPUT_HIST_H
+#define RTSUP_OUTPUT_HIST_H
+
+#include <stdbool.h>
+#include <jansson.h>
+#include "collector.h"
+#include "supervise.h"
+
+/* hist_shown - does a thread get histograms (it has cycles)? */
+bool hist_shown(const struct thread_model *tm);
+/* hist_table - draw the histograms of the run (or of the last interval: window) */
+void hist_table(const struct collector *c, const struct supervisor *sv, bool window);
+/*
+ * hist_json - {"latency_ns": {"count": N, "buckets": [[lo, hi, count], ...]}, ...}:
+ * the non-empty kernel buckets, lo and hi inclusive, in ns
+ */
+json_t *hist_json(const struct thread_model *tm, unsigned int metrics, bool window);
+
+#endif
