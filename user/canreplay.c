@@ -7,11 +7,14 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
+#include <sys/stat.h>
 #include "can.h"
 #include "candump.h"
 #include "canreplay.h"
 #include "collector.h"
 #include "output.h"
+#include "progress.h"
 
 struct can_replay {
 	struct collector c;	/* what the outputs read: no threads here */
@@ -21,6 +24,7 @@ struct can_replay {
 	__u32 epoch;
 	__u64 start, last, next, step;
 	__u64 now;		/* log time of the last frame */
+	struct progress pg;	/* on stderr, cleared before each report */
 };
 
 /* iface_index - interfaces are numbered in order of appearance */
@@ -51,6 +55,7 @@ static void interval(struct can_replay *r, __u64 at, bool end)
 	r->c.bank = r->m.bank;
 	supervise_interval(r->s, &r->c.model, r->c.bank, &self, at);
 	supervise_can(r->s, at, len);
+	progress_end(&r->pg);
 	output_interval(&r->c, r->s, (at - r->start) / 1e9, len);
 	if (end) {
 		output_summary(&r->c, r->s, (at - r->start) / 1e9);
@@ -113,6 +118,7 @@ int can_replay_run(const struct options *o, struct supervisor *s)
 	struct candump_frame f;
 	char line[1024], err[256];
 	size_t lineno = 0;
+	struct stat st;
 	FILE *in;
 	int ret = 1, n;
 
@@ -128,9 +134,15 @@ int can_replay_run(const struct options *o, struct supervisor *s)
 		output_error(o, err);
 		goto out;
 	}
+	progress_start(&r.pg, stderr,
+		       !fstat(fileno(in), &st) && S_ISREG(st.st_mode) ? (__u64)st.st_size : 0,
+		       !o->quiet && isatty(STDERR_FILENO));
 	while (fgets(line, sizeof(line), in)) {
 		lineno++;
+		if (r.pg.on)
+			progress_update(&r.pg, (__u64)ftell(in));
 		if (!strchr(line, '\n') && !feof(in)) {
+			progress_end(&r.pg);
 			snprintf(err, sizeof(err), "%s:%zu: line too long", o->can_replay_path, lineno);
 			output_error(o, err);
 			goto out;
@@ -141,12 +153,14 @@ int can_replay_run(const struct options *o, struct supervisor *s)
 		if (n < 0 || frame(&r, &f)) {
 			char msg[512];
 
+			progress_end(&r.pg);
 			snprintf(msg, sizeof(msg), "%s:%zu: %s", o->can_replay_path, lineno,
 				 n < 0 ? err : "timestamp goes backwards");
 			output_error(o, msg);
 			goto out;
 		}
 	}
+	progress_end(&r.pg);
 	if (ferror(in)) {
 		snprintf(err, sizeof(err), "%s: read error", o->can_replay_path);
 		output_error(o, err);
@@ -163,6 +177,7 @@ int can_replay_run(const struct options *o, struct supervisor *s)
 	if (o->check && level_fails(supervise_worst(s, &r.c.model), o->fail_on))
 		ret = 2;
 out:
+	progress_end(&r.pg);
 	if (in)
 		fclose(in);
 	can_model_free(&r.m);

@@ -10,39 +10,8 @@ static const char *const mark_names[HD_NMARKS] = {
 	[HD_P99] = "p99", [HD_P999] = "p99.9", [HD_MAX] = "max",
 };
 
-/* edge - the i-th row edge: 1-2-5 per decade (step 3) or decades (step 1) */
-static __u64 edge(int i, int per_decade)
-{
-	static const __u64 f125[3] = { 1, 2, 5 };
-	__u64 v = 1;
-	int d;
-
-	for (d = 0; d < i / per_decade; d++)
-		v *= 10;
-	return per_decade == 3 ? v * f125[i % 3] : v;
-}
-
-/* row_of - index of the row holding value v (edge(i) <= v < edge(i + 1)) */
-static int row_of(__u64 v, int per_decade)
-{
-	int i = 0;
-
-	/* edges up to 1e19 fit in a __u64: 19 decades */
-	while (i < 19 * per_decade && edge(i + 1, per_decade) <= v)
-		i++;
-	return i;
-}
-
-/* bucket_row - the row of kernel bucket b: the one its middle falls in */
-static int bucket_row(int b, int per_decade)
-{
-	__u64 lo = hist_bucket_low(b);
-
-	return row_of(lo + (hist_bucket_high(b) - lo) / 2, per_decade);
-}
-
-/* span - first and last row that hold counts, -1 when none */
-static int span(const __u64 *h, int per_decade, int *first, int *last)
+/* range - first and last non-empty kernel bucket, -1 when none */
+static int range(const __u64 *h, int *first, int *last)
 {
 	int b;
 
@@ -51,53 +20,63 @@ static int span(const __u64 *h, int per_decade, int *first, int *last)
 		if (!h[b])
 			continue;
 		if (*first < 0)
-			*first = bucket_row(b, per_decade);
-		*last = bucket_row(b, per_decade);
+			*first = b;
+		*last = b;
 	}
 	return *first;
 }
 
+/* rows_for - rows that buckets first..last take in groups of g */
+static int rows_for(int first, int last, int g)
+{
+	return last / g - first / g + 1;
+}
+
+/*
+ * group - the finest grouping that fits in max rows: 1, 2, 4 or 8 kernel
+ * buckets (8 make a power of two), then 2, 4... powers of two; groups are
+ * aligned, so a row's bounds are kernel bucket bounds, exact
+ */
+static int group(int first, int last, int max)
+{
+	int g = 1;
+
+	while (rows_for(first, last, g) > max)
+		g *= 2;
+	return g;
+}
+
 int histdraw_rows(const __u64 *h, const __u64 *mark, struct hd_row *rows, int max)
 {
-	int pd = 3, first, last, i, t, b;
+	int first, last, f, l, g, t, b, n, i;
 
-	if (span(h, pd, &first, &last) < 0)
+	if (range(h, &first, &last) < 0)
 		return 0;
-	if (last - first + 1 > max) {	/* too wide for 1-2-5: decades */
-		pd = 1;
-		span(h, pd, &first, &last);
-		if (last - first + 1 > max)
-			first = last - max + 1;	/* the tail matters most */
-	}
-	/* show how far the thresholds are, when they fit */
+	g = group(first, last, max);
+	/* show how far the thresholds are, when that needs no coarser rows */
+	f = first;
+	l = last;
 	for (t = HD_WARN; t <= HD_ERROR; t++) {
-		int r;
-
 		if (!mark || !mark[t])
 			continue;
-		r = row_of(mark[t], pd);
-		if (r > last && r - first + 1 <= max)
-			last = r;
-		if (r < first && last - r + 1 <= max)
-			first = r;
+		b = hist_bucket(mark[t]);
+		if (b > l && group(f, b, max) <= (g > 8 ? g : 8))
+			l = b;
+		if (b < f && group(b, l, max) <= (g > 8 ? g : 8))
+			f = b;
 	}
-	for (i = first; i <= last; i++) {
-		rows[i - first].lo = edge(i, pd);
-		rows[i - first].hi = edge(i + 1, pd);
-		rows[i - first].count = 0;
-	}
-	rows[0].lo = first ? edge(first, pd) : 0;
-	for (b = 0; b < HIST_BUCKETS; b++) {
-		int r;
+	g = group(f, l, max);
+	n = rows_for(f, l, g);
+	for (i = 0; i < n; i++) {
+		int lo = (f / g + i) * g, hi = lo + g - 1;
 
-		if (!h[b])
-			continue;
-		r = bucket_row(b, pd);
-		if (r < first)
-			r = first;	/* cut off at the top of the tail (decades only) */
-		rows[r - first].count += h[b];
+		rows[i].lo = hist_bucket_low(lo);
+		rows[i].hi = hi >= HIST_BUCKETS - 1 ? ~0ULL : hist_bucket_high(hi) + 1;
+		rows[i].count = 0;
 	}
-	return last - first + 1;
+	for (b = first; b <= last; b++)
+		rows[b / g - f / g].count += h[b];
+	return n;
 }
 
 void histdraw_fmt_ns(char *buf, size_t len, __u64 ns)
@@ -107,6 +86,10 @@ void histdraw_fmt_ns(char *buf, size_t len, __u64 ns)
 	};
 	int i;
 
+	if (ns == ~0ULL) {
+		snprintf(buf, len, "inf");
+		return;
+	}
 	for (i = 0; i < 3 && ns < u[i].div; i++)
 		;
 	if (ns % u[i].div == 0)
@@ -115,11 +98,15 @@ void histdraw_fmt_ns(char *buf, size_t len, __u64 ns)
 		snprintf(buf, len, "%.3g%s", (double)ns / (double)u[i].div, u[i].unit);
 }
 
-/* marks_of - the names of the marks that fall in [lo, hi), space separated */
+/*
+ * marks_of - the names of the marks in [lo, hi), space separated; on the
+ * last row also those beyond it, with their value ("ERROR>20ms")
+ */
 static int marks_of(const struct hd_hist *hh, const struct hd_row *r, bool last_row,
 		    char *buf, size_t len)
 {
 	int m, worst = -1;
+	char val[16] = "";
 	size_t n = 0;
 
 	buf[0] = '\0';
@@ -128,7 +115,12 @@ static int marks_of(const struct hd_hist *hh, const struct hd_row *r, bool last_
 
 		if (!v || v < r->lo || (v >= r->hi && !last_row))
 			continue;
-		n += snprintf(buf + n, len - n, "%s%s", n ? " " : "", mark_names[m]);
+		val[0] = '\0';
+		if (v >= r->hi) {
+			val[0] = '>';
+			histdraw_fmt_ns(val + 1, sizeof(val) - 1, v);
+		}
+		n += snprintf(buf + n, len - n, "%s%s%s", n ? " " : "", mark_names[m], val);
 		if (n >= len)
 			break;
 		if (m == HD_ERROR || (m == HD_WARN && worst < 0))
@@ -156,11 +148,11 @@ int histdraw_lines(const struct hd_hist *hh, int width, bool color, char out[][H
 		 (unsigned long long)total);
 	if (!n)
 		return nl;
-	/* "  500us .. 1ms   count |bar| marks": 30 columns besides the bar and marks */
+	/* " 9.44ms .. 10.5ms      count |bar| marks": 30 columns before the bar */
 	bar = width - 30 - 18;
 	if (bar < 10)
 		bar = 10;
-	snprintf(out[nl++], HD_LINE, "%17s %10s  %-*s", "range", "count", bar + 2, "distribution");
+	snprintf(out[nl++], HD_LINE, "%18s %9s  %-*s", "range", "count", bar + 2, "distribution");
 	for (i = 0; i < n; i++) {
 		const struct hd_row *r = &rows[i];
 		/* every row with a count shows at least one mark: the outlier is seen */
@@ -176,7 +168,7 @@ int histdraw_lines(const struct hd_hist *hh, int width, bool color, char out[][H
 			fill = bar;
 		histdraw_fmt_ns(lo, sizeof(lo), r->lo);
 		histdraw_fmt_ns(hi, sizeof(hi), r->hi);
-		len = snprintf(out[nl], HD_LINE, "%7s .. %-6s %10llu |%s", lo, hi,
+		len = snprintf(out[nl], HD_LINE, "%7s .. %-7s %9llu |%s", lo, hi,
 			       (unsigned long long)r->count, on);
 		memset(out[nl] + len, '#', fill);
 		memset(out[nl] + len + fill, ' ', bar - fill);

@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause */
 /*
  * histdraw.h - a metric's histogram as lines of text: the kernel's
- * log-linear buckets regrouped into readable rows (1-2-5 per decade, or
- * decades when that is too many), empty rows at both ends trimmed, a bar
+ * log-linear buckets regrouped into at most HD_MAX_ROWS rows (each kernel
+ * bucket, or aligned groups of 2, 4, 8 of them = one power of two, or of
+ * several powers of two), empty rows at both ends trimmed, a bar
  * per row scaled to the largest count, and the thresholds and percentiles
  * marked on their rows. Pure functions: no terminal, no model.
  */
@@ -15,7 +16,7 @@
 #include "rtsup.h"
 
 /* at most this many rows: a histogram fits on a screen */
-#define HD_MAX_ROWS	24
+#define HD_MAX_ROWS	20
 #define HD_LINE		256
 
 /* What is marked on a histogram; 0 = not marked. */
@@ -35,11 +36,11 @@ struct hd_row {
 
 /*
  * histdraw_rows - the kernel buckets h regrouped into at most max rows,
- * trimmed of empty rows at both ends but stretched to the thresholds when
- * that still fits. A kernel bucket counts in the row of its middle (its
- * bounds are 1/8 of a power of two apart, the rows' are not: a row may be
- * off by half a kernel bucket, 1/16 of the value, at each end). Returns
- * the number of rows, 0 when h is empty.
+ * the finest grouping that fits, trimmed of empty rows at both ends but
+ * stretched to the thresholds when that needs rows no coarser than a power
+ * of two. Rows are whole kernel buckets, so their bounds and counts are
+ * exact (readable round bounds such as 1-2-5 would cut kernel buckets in
+ * two and misplace their counts). Returns the number of rows, 0 when empty.
  */
 int histdraw_rows(const __u64 *h, const __u64 *mark, struct hd_row *rows, int max);
 

@@ -328,8 +328,13 @@ static void json_summary(const struct collector *c, const struct supervisor *sv,
 	json_open(o);
 	json_threads(c, sv, false);
 	o = json_object();
-	if (sv->can)
-		json_object_set_new(o, "can", can_json(sv->can, &sv->cfg, sv->now, 0, true));
+	if (sv->can) {
+		json_t *can = can_json(sv->can, &sv->cfg, sv->now, 0, true);
+
+		if (c->o->hist)
+			hist_can_json(can, sv->can);
+		json_object_set_new(o, "can", can);
+	}
 	for (i = 0; i < sv->nv; i++) {
 		fmt_time(c, sv->v[i].mono_ns, when, sizeof(when));
 		json_array_append_new(vs, json_pack("{s:s,s:s,s:s,s:s}", "time", when,
@@ -546,6 +551,8 @@ static void table_summary(const struct collector *c, const struct supervisor *sv
 	if (c->o->hist) {
 		printf("\n");
 		hist_table(c, sv, false);
+		if (sv->can)
+			hist_can_table(sv->can, c->o);
 	}
 	fflush(stdout);
 }

@@ -128,32 +128,89 @@ out:
 	free(bufs);
 }
 
+/* json_buckets - {"count": N, "buckets": [[lo, hi, count], ...]} of counts h */
+static json_t *json_buckets(const __u64 *h)
+{
+	json_t *bk = json_array();
+	__u64 total = 0;
+	int b;
+
+	for (b = 0; b < HIST_BUCKETS; b++) {
+		if (!h[b])
+			continue;
+		total += h[b];
+		/* the last bucket has no upper bound: null */
+		json_array_append_new(bk, json_pack("[I,o,I]", (json_int_t)hist_bucket_low(b),
+			b == HIST_BUCKETS - 1 ? json_null() :
+			json_integer((json_int_t)hist_bucket_high(b)), (json_int_t)h[b]));
+	}
+	return json_pack("{s:I,s:o}", "count", (json_int_t)total, "buckets", bk);
+}
+
 json_t *hist_json(const struct thread_model *tm, unsigned int metrics, bool window)
 {
 	json_t *o = json_object();
 	__u64 buf[HIST_BUCKETS];
-	int m, b;
+	int m;
 
-	for (m = 0; m < RTSUP_M_NR; m++) {
-		const __u64 *h;
-		json_t *bk;
-		__u64 total = 0;
-
-		if (!(metrics & (1u << m)))
-			continue;
-		h = counts(tm, m, window, buf);
-		bk = json_array();
-		for (b = 0; b < HIST_BUCKETS; b++) {
-			if (!h[b])
-				continue;
-			total += h[b];
-			/* the last bucket has no upper bound: null */
-			json_array_append_new(bk, json_pack("[I,o,I]", (json_int_t)hist_bucket_low(b),
-				b == HIST_BUCKETS - 1 ? json_null() :
-				json_integer((json_int_t)hist_bucket_high(b)), (json_int_t)h[b]));
-		}
-		json_object_set_new(o, metric_name(m),
-				    json_pack("{s:I,s:o}", "count", (json_int_t)total, "buckets", bk));
-	}
+	for (m = 0; m < RTSUP_M_NR; m++)
+		if (metrics & (1u << m))
+			json_object_set_new(o, metric_name(m),
+					    json_buckets(counts(tm, m, window, buf)));
 	return o;
+}
+
+/*
+ * hist_can_table - the gaps between frames of each identifier over the
+ * whole run, with their percentiles; a learned period marks nothing: the
+ * CAN checks judge frames missing, not gaps
+ */
+void hist_can_table(const struct can_model *m, const struct options *o)
+{
+	bool color = o->color < 0 ? isatty(STDOUT_FILENO) : o->color;
+	struct hd_hist *hs = calloc(m->n ? m->n : 1, sizeof(*hs));
+	__u64 (*bufs)[HIST_BUCKETS] = calloc(m->n ? m->n : 1, sizeof(*bufs));
+	struct metric_view v;
+	int i, n = 0;
+
+	if (!hs || !bufs) {
+		fprintf(stderr, "rtsup-trace: --hist: out of memory\n");
+		goto out;
+	}
+	for (i = 0; i < m->n; i++) {
+		const struct can_entry *e = &m->e[i];
+
+		if (!e->cur.gap.count)
+			continue;
+		snprintf(hs[n].title, sizeof(hs[n].title), "%s 0x%x%s %s gap",
+			 can_iface_name(m, e->key.ifindex), e->key.can_id & RTSUP_CAN_EFF_MASK,
+			 e->key.can_id & RTSUP_CAN_EFF_FLAG ? "x" : "",
+			 e->key.dir == RTSUP_CAN_TX ? "tx" : "rx");
+		hist_delta(e->cur.gap.hist, NULL, bufs[n]);
+		hs[n].h = bufs[n];
+		metric_view_life(&e->cur.gap, &v);
+		hs[n].mark[HD_P50] = v.p50;
+		hs[n].mark[HD_P99] = v.p99;
+		hs[n].mark[HD_P999] = v.p999;
+		hs[n].mark[HD_MAX] = v.max;
+		n++;
+	}
+	if (n)
+		histdraw_print(stdout, hs, n, term_width(), color);
+	fflush(stdout);
+out:
+	free(hs);
+	free(bufs);
+}
+
+void hist_can_json(json_t *can, const struct can_model *m)
+{
+	json_t *ids = json_object_get(can, "ids");
+	__u64 buf[HIST_BUCKETS];
+	int i;
+
+	for (i = 0; i < m->n && i < (int)json_array_size(ids); i++) {
+		hist_delta(m->e[i].cur.gap.hist, NULL, buf);
+		json_object_set_new(json_array_get(ids, i), "gap_hist", json_buckets(buf));
+	}
 }

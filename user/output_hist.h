@@ -9,6 +9,7 @@
 #include <stdbool.h>
 #include <jansson.h>
 #include "collector.h"
+#include "canmodel.h"
 #include "supervise.h"
 
 /* hist_shown - does a thread get histograms (it has cycles)? */
@@ -20,5 +21,10 @@ void hist_table(const struct collector *c, const struct supervisor *sv, bool win
  * the non-empty kernel buckets, lo and hi inclusive, in ns
  */
 json_t *hist_json(const struct thread_model *tm, unsigned int metrics, bool window);
+
+/* hist_can_table - the inter-frame gaps of every CAN identifier, drawn */
+void hist_can_table(const struct can_model *m, const struct options *o);
+/* hist_can_json - "gap_hist" into each of can_json's "ids", in the model's order */
+void hist_can_json(json_t *can, const struct can_model *m);
 
 #endif
