@@ -56,7 +56,7 @@ int histdraw_lines(const struct hd_hist *hh, int width, bool color,
  * histdraw_print - several histograms side by side in columns when 'width'
  * allows it (at least HD_MIN_WIDTH each), else one under the other
  */
-#define HD_MIN_WIDTH	60
+#define HD_MIN_WIDTH	72
 void histdraw_print(FILE *f, const struct hd_hist *hs, int n, int width, bool color);
 
 /* histdraw_fmt_ns - a time with its unit, e.g. "500us", "1.5ms", "2s" */
