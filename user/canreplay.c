@@ -139,8 +139,8 @@ int can_replay_run(const struct options *o, struct supervisor *s)
 		       !o->quiet && isatty(STDERR_FILENO));
 	while (fgets(line, sizeof(line), in)) {
 		lineno++;
-		if (r.pg.on)
-			progress_update(&r.pg, (__u64)ftell(in));
+		if (progress_due(&r.pg))
+			progress_draw(&r.pg, (__u64)ftell(in));
 		if (!strchr(line, '\n') && !feof(in)) {
 			progress_end(&r.pg);
 			snprintf(err, sizeof(err), "%s:%zu: line too long", o->can_replay_path, lineno);

@@ -41,19 +41,24 @@ void progress_start(struct progress *p, FILE *f, __u64 total, bool on)
 	p->next_ns = p->start_ns + PROGRESS_DELAY_NS;
 }
 
-void progress_update(struct progress *p, __u64 done)
+bool progress_due(struct progress *p)
 {
-	static unsigned int calls;
-	char line[256];
 	__u64 t;
 
 	/* a clock read every 256 records is plenty */
-	if (!p->on || (++calls & 255))
-		return;
+	if (!p->on || (++p->calls & 255))
+		return false;
 	t = now_ns();
 	if (t < p->next_ns)
-		return;
+		return false;
 	p->next_ns = t + PROGRESS_EVERY_NS;
+	return true;
+}
+
+void progress_draw(struct progress *p, __u64 done)
+{
+	char line[256];
+
 	progress_line(line, sizeof(line), done, p->total, 72);
 	fprintf(p->f, "\r%s", line);
 	fflush(p->f);

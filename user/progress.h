@@ -16,6 +16,7 @@ struct progress {
 	__u64 total;		/* bytes */
 	__u64 start_ns;
 	__u64 next_ns;		/* next redraw */
+	unsigned int calls;	/* progress_due calls: the clock is read every 256th */
 	FILE *f;
 };
 
@@ -25,8 +26,13 @@ struct progress {
 
 /* progress_start - a bar over 'total' bytes on f, drawn when 'on' */
 void progress_start(struct progress *p, FILE *f, __u64 total, bool on);
-/* progress_update - 'done' bytes of the total; cheap between redraws */
-void progress_update(struct progress *p, __u64 done);
+/*
+ * progress_due - time to redraw? Cheap: most calls only count. Only then
+ * the caller finds out how far it is (an lseek) and calls progress_draw.
+ */
+bool progress_due(struct progress *p);
+/* progress_draw - draw 'done' bytes of the total */
+void progress_draw(struct progress *p, __u64 done);
 /* progress_end - clear the bar's line */
 void progress_end(struct progress *p);
 /* progress_line - the bar's text for done of total in 'width' columns (pure) */

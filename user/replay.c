@@ -216,9 +216,9 @@ int replay_run(const struct options *o, struct supervisor *s)
 	rec_tell(rd, &done, &total);
 	progress_start(&r.pg, stderr, total, !o->quiet && isatty(STDERR_FILENO));
 	while ((n = rec_next(rd, &type, &buf, &len, err, sizeof(err))) > 0 && !r.ended) {
-		if (r.pg.on) {
+		if (progress_due(&r.pg)) {
 			rec_tell(rd, &done, &total);
-			progress_update(&r.pg, done);
+			progress_draw(&r.pg, done);
 		}
 		switch (type) {
 		case REC_THREAD:

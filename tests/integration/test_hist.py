@@ -106,3 +106,29 @@ def test_replay_hist_is_the_live_one(tmp_path):
         assert got[t["tid"]]["total"]["hist"] == want[t["tid"]]["total"]["hist"]
         assert got[t["tid"]]["total"]["hist"]["exec_ns"]["count"] == \
             want[t["tid"]]["total"]["cycles"]
+
+
+def test_hist_interval_json_adds_up_to_the_total(tmp_path):
+    truth, intervals, summary = run_supervised(
+        tmp_path, ["-P", str(PERIOD_US), "-w", "100", "-c", str(CYCLES)],
+        ["--hist=exec", "--hist-interval", "-i", "300ms"])
+    got = threads_by_tid(summary)
+    for t in truth["threads"]:
+        tid = t["tid"]
+        per_bucket = {}
+        for i in intervals:
+            for th in i["threads"]:
+                if th["tid"] != tid or not th["interval"]["cycles"]:
+                    continue
+                h = th["interval"]["hist"]["exec_ns"]
+                # each interval's histogram holds that interval's cycles
+                assert h["count"] == th["interval"]["exec_ns"]["count"] == \
+                    th["interval"]["cycles"]
+                for lo, hi, c in h["buckets"]:
+                    per_bucket[lo] = per_bucket.get(lo, 0) + c
+        # and the intervals add up to the lifetime, bucket by bucket (a
+        # thread's start-up cycles, dropped at its first delimiter call, could
+        # only differ if an interval ended between its start and that call:
+        # the generator's threads sleep at once)
+        total = got[tid]["total"]["hist"]["exec_ns"]["buckets"]
+        assert per_bucket == {lo: c for lo, _, c in total}

@@ -40,6 +40,23 @@ static void test_progress_line(void **state)
 	assert_true(strlen(b) <= 72);
 }
 
+/* drawn, then cleared: a carriage return, the bar, and the erased line */
+static void test_progress_draw(void **state)
+{
+	char buf[4096] = "";
+	FILE *f = fmemopen(buf, sizeof(buf), "w");
+	struct progress p;
+
+	assert_non_null(f);
+	progress_start(&p, f, 1000, true);
+	progress_draw(&p, 250);
+	progress_end(&p);
+	fclose(f);
+	assert_true(buf[0] == '\r');
+	assert_non_null(strstr(buf, "]  25%"));
+	assert_non_null(strstr(buf, "\r\033[K"));
+}
+
 /* off, or too early: the stream stays empty */
 static void test_progress_quiet(void **state)
 {
@@ -51,12 +68,12 @@ static void test_progress_quiet(void **state)
 	assert_non_null(f);
 	progress_start(&p, f, 1000, false);
 	for (i = 0; i < 100000; i++)
-		progress_update(&p, i % 1000);
+		assert_false(progress_due(&p));
 	progress_end(&p);
 	/* on, but the replay is young: nothing yet either */
 	progress_start(&p, f, 1000, true);
 	for (i = 0; i < 1000; i++)
-		progress_update(&p, i);
+		assert_false(progress_due(&p));
 	progress_end(&p);
 	fclose(f);
 	assert_string_equal(buf, "");
@@ -67,6 +84,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_progress_line),
 		cmocka_unit_test(test_progress_quiet),
+		cmocka_unit_test(test_progress_draw),
 	};
 
 	return cmocka_run_group_tests_name("progress", tests, NULL, NULL);
