@@ -111,7 +111,7 @@ void hist_table(const struct collector *c, const struct supervisor *sv, bool win
 			const struct thread_model *tm = &c->model.t[i];
 			const struct metric_view *v = window ? &tm->win.m[m] : &tm->life.m[m];
 
-			if (!hist_shown(tm) || (window && tm->reported_exit))
+			if (!hist_shown(tm) || (window && (tm->reported_exit || !v->count)))
 				continue;
 			snprintf(hs[n].title, sizeof(hs[n].title), "%s[%u] %s%s", tm->comm,
 				 tm->tid, titles[m], window ? " (interval)" : "");
