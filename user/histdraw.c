@@ -102,11 +102,11 @@ void histdraw_fmt_ns(char *buf, size_t len, __u64 ns)
  * marks_of - the names of the marks in [lo, hi), space separated; on the
  * last row also those beyond it, with their value ("ERROR>20ms")
  */
-static int marks_of(const struct hd_hist *hh, const struct hd_row *r, bool last_row,
-		    char *buf, size_t len)
+static void marks_of(const struct hd_hist *hh, const struct hd_row *r, bool last_row,
+		     char *buf, size_t len)
 {
-	int m, worst = -1;
 	char val[16] = "";
+	int m;
 	size_t n = 0;
 
 	buf[0] = '\0';
@@ -123,10 +123,17 @@ static int marks_of(const struct hd_hist *hh, const struct hd_row *r, bool last_
 		n += snprintf(buf + n, len - n, "%s%s%s", n ? " " : "", mark_names[m], val);
 		if (n >= len)
 			break;
-		if (m == HD_ERROR || (m == HD_WARN && worst < 0))
-			worst = m;
 	}
-	return worst;
+}
+
+/* row_level - HD_ERROR or HD_WARN when the row holds values above that threshold, else -1 */
+static int row_level(const struct hd_hist *hh, const struct hd_row *r)
+{
+	if (hh->mark[HD_ERROR] && r->hi - 1 > hh->mark[HD_ERROR])
+		return HD_ERROR;
+	if (hh->mark[HD_WARN] && r->hi - 1 > hh->mark[HD_WARN])
+		return HD_WARN;
+	return -1;
 }
 
 int histdraw_lines(const struct hd_hist *hh, int width, bool color, char out[][HD_LINE])
@@ -157,7 +164,7 @@ int histdraw_lines(const struct hd_hist *hh, int width, bool color, char out[][H
 		const struct hd_row *r = &rows[i];
 		/* every row with a count shows at least one mark: the outlier is seen */
 		int fill = top ? (int)((r->count * bar + top - 1) / top) : 0;
-		int worst = marks_of(hh, r, i == n - 1, mk, sizeof(mk));
+		int worst = row_level(hh, r);
 		const char *on = "", *off = "";
 
 		if (color && worst >= 0) {
@@ -166,6 +173,7 @@ int histdraw_lines(const struct hd_hist *hh, int width, bool color, char out[][H
 		}
 		if (fill > bar)
 			fill = bar;
+		marks_of(hh, r, i == n - 1, mk, sizeof(mk));
 		histdraw_fmt_ns(lo, sizeof(lo), r->lo);
 		histdraw_fmt_ns(hi, sizeof(hi), r->hi);
 		len = snprintf(out[nl], HD_LINE, "%7s .. %-7s %9llu |%s", lo, hi,

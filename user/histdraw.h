@@ -5,7 +5,8 @@
  * bucket, or aligned groups of 2, 4, 8 of them = one power of two, or of
  * several powers of two), empty rows at both ends trimmed, a bar
  * per row scaled to the largest count, and the thresholds and percentiles
- * marked on their rows. Pure functions: no terminal, no model.
+ * marked on their rows; with colour, the rows that hold values above WARN
+ * yellow, above ERROR red. Pure functions: no terminal, no model.
  */
 #ifndef RTSUP_HISTDRAW_H
 #define RTSUP_HISTDRAW_H

@@ -154,11 +154,14 @@ static void test_histdraw_lines_scale_marks(void **state)
 	assert_non_null(strstr(out[2 + 10], "| max"));
 	for (i = 0; i < n; i++)
 		assert_true(strlen(out[i]) <= 100);
-	/* colour: the ERROR row red, the WARN row yellow, nothing elsewhere */
+	/* colour: rows with values above ERROR red, above WARN yellow, none below */
 	histdraw_lines(&hh, 100, true, out);
+	assert_non_null(strstr(out[2 + 10], "\033[31m"));
 	assert_non_null(strstr(out[2 + 9], "\033[31m"));
+	assert_non_null(strstr(out[2 + 8], "\033[33m"));
 	assert_non_null(strstr(out[2 + 5], "\033[33m"));
-	assert_null(strchr(out[2], '\033'));
+	for (i = 0; i < 2 + 5; i++)
+		assert_null(strchr(out[i], '\033'));
 	/* a mark beyond the last row is on it, with its value */
 	hh.mark[HD_MAX] = 50 * MS;
 	histdraw_lines(&hh, 100, false, out);
