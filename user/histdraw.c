@@ -50,7 +50,7 @@ int histdraw_rows(const __u64 *h, const __u64 *mark, struct hd_row *rows, int ma
 {
 	int first, last, f, l, g, t, b, n, i;
 
-	if (range(h, &first, &last) < 0)
+	if (max < 1 || range(h, &first, &last) < 0)
 		return 0;
 	g = group(first, last, max);
 	/* show how far the thresholds are, when that needs no coarser rows */
