@@ -159,8 +159,7 @@ static void view_quantiles(const __u64 *h, __u64 sum, struct metric_view *v)
 	v->p999 = out[2];
 }
 
-/* metric_view_hist - a lifetime view with counts h (NULL: the kernel's buckets) */
-static void metric_view_hist(const struct rtsup_metric_stats *s, const __u64 *h,
+void metric_view_counts(const struct rtsup_metric_stats *s, const __u64 *h,
 			     struct metric_view *v)
 {
 	__u64 tmp[HIST_BUCKETS];
@@ -182,7 +181,7 @@ static void metric_view_hist(const struct rtsup_metric_stats *s, const __u64 *h,
 
 void metric_view_life(const struct rtsup_metric_stats *s, struct metric_view *v)
 {
-	metric_view_hist(s, NULL, v);
+	metric_view_counts(s, NULL, v);
 }
 
 void metric_view_window(const struct rtsup_metric_stats *cur,
@@ -302,7 +301,7 @@ void model_views(struct thread_model *tm, const struct rtsup_thread *t,
 	span_window(t, prev, bank, &tm->win);
 	span_counters(t, NULL, &tm->life);
 	for (i = 0; i < RTSUP_M_NR; i++)
-		metric_view_hist(&t->m[i], have ? tm->life_hist->h[i] : NULL, &tm->life.m[i]);
+		metric_view_counts(&t->m[i], have ? tm->life_hist->h[i] : NULL, &tm->life.m[i]);
 }
 
 void model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank)

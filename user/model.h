@@ -114,6 +114,12 @@ __u64 hist_percentile64(const __u64 *h, double q, __u64 min, __u64 max);
 /* hist_delta - bucket counts cur - prev (prev may be NULL), modulo 2^32 */
 void hist_delta(const __u32 *cur, const __u32 *prev, __u64 *out);
 
+/*
+ * metric_view_counts - a lifetime view whose percentiles come from the
+ * bucket counts h (NULL: the kernel's own buckets)
+ */
+void metric_view_counts(const struct rtsup_metric_stats *s, const __u64 *h,
+			struct metric_view *v);
 /* metric_view_life - a metric over the thread's lifetime */
 void metric_view_life(const struct rtsup_metric_stats *s, struct metric_view *v);
 /*

@@ -186,9 +186,9 @@ void hist_can_table(const struct can_model *m, const struct options *o)
 			 can_iface_name(m, e->key.ifindex), e->key.can_id & RTSUP_CAN_EFF_MASK,
 			 e->key.can_id & RTSUP_CAN_EFF_FLAG ? "x" : "",
 			 e->key.dir == RTSUP_CAN_TX ? "tx" : "rx");
-		hist_delta(e->cur.gap.hist, NULL, bufs[n]);
+		can_gap_life(e, bufs[n]);
 		hs[n].h = bufs[n];
-		metric_view_life(&e->cur.gap, &v);
+		can_gap_view_life(e, &v);
 		hs[n].mark[HD_P50] = v.p50;
 		hs[n].mark[HD_P99] = v.p99;
 		hs[n].mark[HD_P999] = v.p999;
@@ -210,7 +210,7 @@ void hist_can_json(json_t *can, const struct can_model *m)
 	int i;
 
 	for (i = 0; i < m->n && i < (int)json_array_size(ids); i++) {
-		hist_delta(m->e[i].cur.gap.hist, NULL, buf);
+		can_gap_life(&m->e[i], buf);
 		json_object_set_new(json_array_get(ids, i), "gap_hist", json_buckets(buf));
 	}
 }
