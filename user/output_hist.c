@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
-/* output_hist.c - the --hist sink: histograms per judged thread, text or JSON */
+/* output_hist.c - the --hist sink: histograms per thread with cycles, text or JSON */
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>

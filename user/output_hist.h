@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause */
 /*
- * output_hist.h - the --hist sink: per judged thread, the histograms of
+ * output_hist.h - the --hist sink: per thread with cycles, the histograms of
  * the chosen metrics, drawn on the terminal (histdraw) or as JSON.
  */
 #ifndef RTSUP_OUTPUT_HIST_H
