@@ -105,6 +105,8 @@ $(OUT)/rtsup-cansim: scripts/cansim/cansim.c | $(OUT)
 # Unit tests: plain C from include/ and user/, no kernel, no root.
 UNIT_DEPS_test_model  := user/model.c
 UNIT_DEPS_test_eventlog := user/eventlog.c
+UNIT_DEPS_test_histdraw := user/histdraw.c
+UNIT_DEPS_test_progress := user/progress.c
 UNIT_DEPS_test_syscalls := user/syscalls.c
 UNIT_DEPS_test_config := user/config.c user/syscalls.c
 UNIT_LIBS_test_config := -lyaml

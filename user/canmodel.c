@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "canmodel.h"
+#include "hist.h"
 
 /* key_cmp - order of the entries */
 static int key_cmp(const struct rtsup_can_key *a, const struct rtsup_can_key *b)
@@ -135,11 +136,47 @@ void can_component(const struct can_model *m, const struct can_entry *e, char *b
 		 e->key.can_id & RTSUP_CAN_EFF_MASK, e->key.dir == RTSUP_CAN_TX ? "tx" : "rx");
 }
 
+void can_gap_life(const struct can_entry *e, __u64 *h)
+{
+	int b;
+
+	if (!e->gap_life) {	/* none yet, or out of memory: the kernel's counts */
+		hist_delta(e->cur.gap.hist, NULL, h);
+		return;
+	}
+	hist_delta(e->cur.gap.hist, e->have_prev ? e->prev.gap.hist : NULL, h);
+	for (b = 0; b < HIST_BUCKETS; b++)
+		h[b] += e->gap_life[b];
+}
+
+void can_gap_view_life(const struct can_entry *e, struct metric_view *v)
+{
+	__u64 h[HIST_BUCKETS];
+
+	can_gap_life(e, h);
+	metric_view_counts(&e->cur.gap, h, v);
+}
+
+/* gap_life_add - fold the interval that ends into an entry's lifetime counts */
+static void gap_life_add(struct can_entry *e)
+{
+	__u64 h[HIST_BUCKETS];
+
+	if (!e->gap_life && !e->cur.gap.count)
+		return;
+	can_gap_life(e, h);	/* everything up to now */
+	if (!e->gap_life)
+		e->gap_life = malloc(HIST_BUCKETS * sizeof(*e->gap_life));
+	if (e->gap_life)
+		memcpy(e->gap_life, h, sizeof(h));
+}
+
 void can_model_next(struct can_model *m)
 {
 	int i;
 
 	for (i = 0; i < m->n; i++) {
+		gap_life_add(&m->e[i]);
 		m->e[i].prev = m->e[i].cur;
 		m->e[i].have_prev = true;
 	}
@@ -154,6 +191,10 @@ void can_model_next(struct can_model *m)
 
 void can_model_free(struct can_model *m)
 {
+	int i;
+
+	for (i = 0; i < m->n; i++)
+		free(m->e[i].gap_life);
 	free(m->e);
 	free(m->nodes);
 	memset(m, 0, sizeof(*m));
@@ -492,7 +533,7 @@ void can_model_judge(struct can_model *m, const struct config *cfg, __u64 now,
 			if (!v->period)
 				v->period = e->learned;
 			merge_gap(&v->gap, &gap);
-			metric_view_life(&e->cur.gap, &gap);
+			can_gap_view_life(e, &gap);
 			merge_gap(&v->gap_life, &gap);
 			continue;
 		}

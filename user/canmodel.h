@@ -34,6 +34,7 @@ struct can_entry {
 	struct rtsup_can_id cur;
 	struct rtsup_can_id prev;	/* one interval ago */
 	bool have_prev;
+	__u64 *gap_life;		/* gap bucket counts up to prev, summed: no wrap */
 	int node;			/* configured node, -1 = none */
 	__u64 learned;			/* learned period, ns (0 = not yet) */
 	struct status st;		/* verdict when no node names it */
@@ -160,5 +161,14 @@ void can_component(const struct can_model *m, const struct can_entry *e, char *b
 enum level can_worst(const struct can_model *m);
 /* can_nmt_name - "operational", "pre-operational", ... */
 const char *can_nmt_name(__u8 state);
+
+/*
+ * can_gap_life - an identifier's lifetime gap bucket counts (HIST_BUCKETS):
+ * the kernel's __u32 buckets wrap, so can_model_next sums each interval's
+ * difference into 64-bit counts, and this adds the current interval's
+ */
+void can_gap_life(const struct can_entry *e, __u64 *h);
+/* can_gap_view_life - an identifier's lifetime gap view, from those counts */
+void can_gap_view_life(const struct can_entry *e, struct metric_view *v);
 
 #endif

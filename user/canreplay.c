@@ -7,11 +7,14 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
+#include <sys/stat.h>
 #include "can.h"
 #include "candump.h"
 #include "canreplay.h"
 #include "collector.h"
 #include "output.h"
+#include "progress.h"
 
 struct can_replay {
 	struct collector c;	/* what the outputs read: no threads here */
@@ -23,6 +26,7 @@ struct can_replay {
 	__u64 now;		/* log time of the last frame */
 	__u64 shift;		/* clock steps taken out of the log's time so far */
 	__u64 last_jump;	/* the clock step frame() just took out, for its note */
+	struct progress pg;	/* on stderr, cleared before each report */
 };
 
 /*
@@ -67,6 +71,7 @@ static void interval(struct can_replay *r, __u64 at, bool end)
 	r->c.bank = r->m.bank;
 	supervise_interval(r->s, &r->c.model, r->c.bank, &self, at);
 	supervise_can(r->s, at, len);
+	progress_end(&r->pg);
 	output_interval(&r->c, r->s, (at - r->start) / 1e9, len);
 	if (end) {
 		output_summary(&r->c, r->s, (at - r->start) / 1e9);
@@ -144,6 +149,7 @@ int can_replay_run(const struct options *o, struct supervisor *s)
 	struct candump_frame f;
 	char line[1024], err[256];
 	size_t lineno = 0;
+	struct stat st;
 	FILE *in;
 	int ret = 1, n;
 	bool parsed;
@@ -160,9 +166,15 @@ int can_replay_run(const struct options *o, struct supervisor *s)
 		output_error(o, err);
 		goto out;
 	}
+	progress_start(&r.pg, stderr,
+		       !fstat(fileno(in), &st) && S_ISREG(st.st_mode) ? (__u64)st.st_size : 0,
+		       !o->quiet && isatty(STDERR_FILENO));
 	while (fgets(line, sizeof(line), in)) {
 		lineno++;
+		if (progress_due(&r.pg))
+			progress_draw(&r.pg, (__u64)ftell(in));
 		if (!strchr(line, '\n') && !feof(in)) {
+			progress_end(&r.pg);
 			snprintf(err, sizeof(err), "%s:%zu: line too long", o->can_replay_path, lineno);
 			output_error(o, err);
 			goto out;
@@ -173,6 +185,7 @@ int can_replay_run(const struct options *o, struct supervisor *s)
 		parsed = n > 0;
 		if (parsed && (n = frame(&r, &f)) == 1) {
 			/* a clock step: a note, and the frame is taken on the new time */
+			progress_end(&r.pg);
 			fprintf(stderr, "rtsup-trace: %s:%zu: the log's time jumps forward by %.0f s "
 				"(a clock step?): replay goes on as if it had not\n",
 				o->can_replay_path, lineno, r.last_jump / 1e9);
@@ -181,12 +194,14 @@ int can_replay_run(const struct options *o, struct supervisor *s)
 		if (n < 0) {
 			char msg[512];
 
+			progress_end(&r.pg);
 			snprintf(msg, sizeof(msg), "%s:%zu: %s", o->can_replay_path, lineno,
 				 parsed ? "timestamp goes backwards" : err);
 			output_error(o, msg);
 			goto out;
 		}
 	}
+	progress_end(&r.pg);
 	if (ferror(in)) {
 		snprintf(err, sizeof(err), "%s: read error", o->can_replay_path);
 		output_error(o, err);
@@ -203,6 +218,7 @@ int can_replay_run(const struct options *o, struct supervisor *s)
 	if (o->check && level_fails(supervise_worst(s, &r.c.model), o->fail_on))
 		ret = 2;
 out:
+	progress_end(&r.pg);
 	if (in)
 		fclose(in);
 	can_model_free(&r.m);

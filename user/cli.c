@@ -3,6 +3,7 @@
 #include <argp.h>
 #include <errno.h>
 #include <limits.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,8 +20,9 @@ static const char doc[] =
 "USAGE: rtsup-trace [-p PID] [-t TID] [-c COMM] [--rt] [--cgroup PATH]\n"
 "                   [-i INTERVAL] [-d DURATION] [-j] [-v] [--config FILE]\n"
 "                   [--check [--fail-on warn|error]] [--record FILE] [--perfetto FILE]\n"
-"                   [-- CMD [ARGS...]]\n"
+"                   [--hist[=METRIC,...] [--hist-interval]] [-- CMD [ARGS...]]\n"
 "       rtsup-trace replay FILE [--config FILE] [-j] [--check] [--perfetto FILE]\n"
+"                   [--hist[=METRIC,...]] [-q]\n"
 "       rtsup-trace --check-config FILE\n"
 "\n"
 "EXAMPLES:\n"
@@ -29,6 +31,7 @@ static const char doc[] =
 "    rtsup-trace --rt                          # every SCHED_FIFO/RR/DEADLINE thread\n"
 "    rtsup-trace -p 1234 --cycle-syscall epoll_wait  # cycles end in epoll_wait\n"
 "    rtsup-trace --check --config rt.yaml -- ./my_control_test  # CI\n"
+"    rtsup-trace -p 1234 -d 30s --hist=latency,exec  # histograms at the end\n"
 "    rtsup-trace -p 1234 -d 1m --record run.rtsup; rtsup-trace replay run.rtsup --check\n"
 "\n"
 "Exit status: 0 on success (with --check: every component stayed OK), 1 on an\n"
@@ -58,6 +61,8 @@ enum {
 	OPT_BITRATE,
 	OPT_CAN_MAX_IDS,
 	OPT_FLOOR,
+	OPT_HIST,
+	OPT_HIST_INTERVAL,
 };
 
 static const struct argp_option opts[] = {
@@ -91,6 +96,10 @@ static const struct argp_option opts[] = {
 	  "Supervise a CAN interface (repeatable); without IFACE every CAN interface", 0 },
 	{ "bitrate", OPT_BITRATE, "BPS", 0, "CAN bitrate for the bus load when the interface does not tell (vcan)", 0 },
 	{ "can-max-ids", OPT_CAN_MAX_IDS, "N", 0, "Capacity of the CAN identifier map (default 4096)", 0 },
+	{ "hist", OPT_HIST, "METRIC", OPTION_ARG_OPTIONAL,
+	  "Histograms at the end: latency (default), exec, period, cpu; comma separated", 0 },
+	{ "hist-interval", OPT_HIST_INTERVAL, NULL, 0, "With --hist: every interval's histograms too", 0 },
+	{ "quiet", 'q', NULL, 0, "No progress bar (replay)", 0 },
 	/* make bench: the same hooks with empty programs, the floor of any BPF tracer */
 	{ "floor", OPT_FLOOR, NULL, OPTION_HIDDEN, "Attach empty programs instead (benchmark)", 0 },
 	{},
@@ -115,6 +124,21 @@ double parse_duration(const char *s)
 		return v * 60;
 	if (!strcmp(end, "h"))
 		return v * 3600;
+	return -1;
+}
+
+/* hist_metric - RTSUP_M_* of a --hist name, -1 if none */
+static int hist_metric(const char *name)
+{
+	static const char *const names[RTSUP_M_NR] = {
+		[RTSUP_M_PERIOD] = "period", [RTSUP_M_EXEC] = "exec",
+		[RTSUP_M_CPU] = "cpu", [RTSUP_M_LATENCY] = "latency",
+	};
+	int i;
+
+	for (i = 0; i < RTSUP_M_NR; i++)
+		if (!strcmp(name, names[i]))
+			return i;
 	return -1;
 }
 
@@ -301,6 +325,28 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 	case OPT_FLOOR:
 		o->floor = true;
 		break;
+	case OPT_HIST:
+		if (!arg) {
+			o->hist = 1u << RTSUP_M_LATENCY;
+			break;
+		}
+		o->hist = 0;
+		for (tok = strtok_r(arg, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+			int m = hist_metric(tok);
+
+			if (m < 0)
+				return bad(st, "--hist", tok, "want latency, exec, period or cpu");
+			o->hist |= 1u << m;
+		}
+		if (!o->hist)
+			return bad(st, "--hist", arg, "empty list");
+		break;
+	case OPT_HIST_INTERVAL:
+		o->hist_interval = true;
+		break;
+	case 'q':
+		o->quiet = true;
+		break;
 	case ARGP_KEY_ARG:
 		if (o->replay_path && !*o->replay_path) {
 			o->replay_path = arg;	/* replay FILE */
@@ -334,6 +380,10 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 			fprintf(stderr, "rtsup-trace: no target: give --pid, --tid, --comm, --rt, --cgroup or --unit\n");
 			return EINVAL;
 		}
+		if (o->hist_interval && !o->hist) {
+			fprintf(stderr, "rtsup-trace: --hist-interval: give --hist too\n");
+			return EINVAL;
+		}
 		if (o->unit && t->cgroup) {
 			fprintf(stderr, "rtsup-trace: --unit and --cgroup: give one of them\n");
 			return EINVAL;
@@ -345,23 +395,44 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 	return 0;
 }
 
-/*
- * join_can_arg - "--can can0" means "--can=can0": argp's optional arguments
- * only come attached, and a bare --can means every interface
- */
-static int join_can_arg(int argc, char **argv)
+/* metric_list - "exec,latency": every name a --hist metric */
+static bool metric_list(const char *s)
 {
-	static char buf[8][32];
+	char buf[64], *tok, *save;
+
+	if (!*s || strlen(s) >= sizeof(buf))
+		return false;
+	strcpy(buf, s);
+	for (tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save))
+		if (hist_metric(tok) < 0)
+			return false;
+	return true;
+}
+
+/*
+ * join_opt_args - "--can can0" means "--can=can0", "--hist exec" means
+ * "--hist=exec": argp's optional arguments only come attached; a bare --can
+ * means every interface, a bare --hist the latency
+ */
+static int join_opt_args(int argc, char **argv)
+{
+	static char buf[16][80];
 	int i, n = 0;
 
-	for (i = 1; i < argc - 1 && n < 8; i++) {
+	for (i = 1; i < argc - 1 && n < 16; i++) {
+		bool can = !strcmp(argv[i], "--can"), hist = !strcmp(argv[i], "--hist");
+
 		if (!strcmp(argv[i], "--"))
 			break;
-		if (strcmp(argv[i], "--can") || argv[i + 1][0] == '-' || !argv[i + 1][0])
+		if (!can && !hist)
 			continue;
-		snprintf(buf[n], sizeof(buf[n]), "--can=%s", argv[i + 1]);
+		if (can && (argv[i + 1][0] == '-' || !argv[i + 1][0]))
+			continue;
+		if (hist && !metric_list(argv[i + 1]))
+			continue;
+		snprintf(buf[n], sizeof(buf[n]), "%s=%s", argv[i], argv[i + 1]);
 		argv[i] = buf[n++];
-		/* the interface is now part of the option: drop its own slot */
+		/* the value is now part of the option: drop its own slot */
 		memmove(&argv[i + 1], &argv[i + 2], (argc - i - 2) * sizeof(*argv));
 		argv[--argc] = NULL;
 	}
@@ -391,8 +462,9 @@ int options_parse(int argc, char **argv, struct options *o)
 		else
 			o->can_replay_path = "";
 		argv[1] = argv[0];
+		argc = join_opt_args(argc - 1, argv + 1) + 1;
 		return argp_parse(&argp, argc - 1, argv + 1, 0, NULL, o) ? -1 : 0;
 	}
-	argc = join_can_arg(argc, argv);
+	argc = join_opt_args(argc, argv);
 	return argp_parse(&argp, argc, argv, 0, NULL, o) ? -1 : 0;
 }

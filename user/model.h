@@ -12,6 +12,16 @@
 #include "rtsup.h"
 #include "status.h"
 
+/*
+ * Lifetime bucket counts of a thread's metrics, summed from interval
+ * differences: the kernel's __u32 buckets wrap, these do not. And the last
+ * interval's counts, for the histograms of an interval (--hist-interval).
+ */
+struct life_hist {
+	__u64 h[RTSUP_M_NR][HIST_BUCKETS];
+	__u32 win[RTSUP_M_NR][HIST_BUCKETS];
+};
+
 /* One metric, in ns, over a window or a lifetime. */
 struct metric_view {
 	__u64 count;
@@ -68,6 +78,7 @@ struct thread_model {
 	struct span_view life;
 	bool judged;			/* supervised in an earlier interval */
 	struct rtsup_thread *snap;	/* replay only: cur at the last interval */
+	struct life_hist *life_hist;	/* lifetime bucket counts, NULL until a snapshot */
 	int nsys;
 	struct sys_count sys[MODEL_MAX_SYS];
 	/* supervision: filled by the supervisor, read by the sinks */
@@ -98,7 +109,17 @@ struct model {
 /* hist_percentile - q-quantile (0 < q <= 1) of cur - prev (prev may be NULL) */
 __u64 hist_percentile(const __u32 *cur, const __u32 *prev, double q, __u64 min,
 		      __u64 max);
+/* hist_percentile64 - q-quantile of bucket counts h, values within [min, max] */
+__u64 hist_percentile64(const __u64 *h, double q, __u64 min, __u64 max);
+/* hist_delta - bucket counts cur - prev (prev may be NULL), modulo 2^32 */
+void hist_delta(const __u32 *cur, const __u32 *prev, __u64 *out);
 
+/*
+ * metric_view_counts - a lifetime view whose percentiles come from the
+ * bucket counts h (NULL: the kernel's own buckets)
+ */
+void metric_view_counts(const struct rtsup_metric_stats *s, const __u64 *h,
+			struct metric_view *v);
 /* metric_view_life - a metric over the thread's lifetime */
 void metric_view_life(const struct rtsup_metric_stats *s, struct metric_view *v);
 /*

@@ -44,6 +44,9 @@ struct options {
 	__u64 can_bitrate;	/* --bitrate: overrides what the interface says */
 	__u32 can_max_ids;	/* --can-max-ids: capacity of the identifier map */
 	bool canopen;		/* from the configuration: CANopen matching in the kernel */
+	unsigned int hist;	/* --hist: bit (1 << RTSUP_M_*) per metric to draw */
+	bool hist_interval;	/* --hist-interval: every interval's too */
+	bool quiet;		/* -q: no progress bar */
 	bool floor;		/* --floor (hidden): empty programs on the same hooks, for make bench */
 };
 

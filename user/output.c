@@ -7,6 +7,7 @@
 #include <unistd.h>
 #include <jansson.h>
 #include "output.h"
+#include "output_hist.h"
 #include "syscalls.h"
 #include "output_can.h"
 
@@ -159,6 +160,10 @@ static json_t *json_thread(const struct collector *c, const struct supervisor *s
 	if (window)
 		json_object_set_new(o, "interval", json_span(&tm->win, tm, true));
 	json_object_set_new(o, "total", json_span(&tm->life, tm, false));
+	/* --hist: the summary's lifetime ones, and each interval's with --hist-interval */
+	if (c->o->hist && hist_shown(tm) && (!window || c->o->hist_interval))
+		json_object_set_new(json_object_get(o, window ? "interval" : "total"), "hist",
+				    hist_json(tm, c->o->hist, window));
 	return o;
 }
 
@@ -385,8 +390,13 @@ static void json_summary(const struct collector *c, const struct supervisor *sv,
 	json_open(o);
 	json_threads(c, sv, false);
 	o = json_object();
-	if (sv->can)
-		json_object_set_new(o, "can", can_json(sv->can, &sv->cfg, sv->now, 0, true));
+	if (sv->can) {
+		json_t *can = can_json(sv->can, &sv->cfg, sv->now, 0, true);
+
+		if (c->o->hist)
+			hist_can_json(can, sv->can);
+		json_object_set_new(o, "can", can);
+	}
 	for (i = 0; i < sv->nv; i++) {
 		const struct violation *v = &sv->v[i];
 		const char *text[STATUS_MAX_MSGS];
@@ -559,6 +569,8 @@ static void table_interval(const struct collector *c, const struct supervisor *s
 	if (hidden)
 		printf("  ... %llu more events\n", (unsigned long long)hidden);
 	printf("\n");
+	if (c->o->hist_interval)
+		hist_table(c, sv, true);
 	fflush(stdout);
 }
 
@@ -611,6 +623,12 @@ static void table_summary(const struct collector *c, const struct supervisor *sv
 		fmt_time(c, sv->v[i].mono_ns, when, sizeof(when));
 		printf("  %s %-5s %s: %s\n", when + 11, level_name(sv->v[i].level),
 		       sv->v[i].component, sv->v[i].what);
+	}
+	if (c->o->hist) {
+		printf("\n");
+		hist_table(c, sv, false);
+		if (sv->can)
+			hist_can_table(sv->can, c->o);
 	}
 	fflush(stdout);
 }

@@ -21,7 +21,7 @@ static void entry_gap(const struct can_model *m, const struct can_entry *e, bool
 		      struct metric_view *v)
 {
 	if (total || !e->have_prev)
-		metric_view_life(&e->cur.gap, v);
+		can_gap_view_life(e, v);
 	else
 		metric_view_window(&e->cur.gap, &e->prev.gap, m->bank, v);
 }

@@ -134,17 +134,26 @@ static void sample_kv(struct prom_buf *b, const char *name, double value,
 }
 
 /*
- * put_histogram - a cumulative histogram from the log-linear in-kernel one.
- * A kernel bucket counts below a bound only when all of it is below, so a
- * bucket may lag by up to 1/8 of its bound (the kernel's resolution).
+ * put_histogram - a cumulative histogram from the thread's lifetime one
+ * (metric 'metric'). A kernel bucket counts below a bound only when all of
+ * it is below, so a bucket may lag by up to 1/8 of its bound (the kernel's
+ * resolution). The counts are the model's u64 sums, not the kernel's
+ * __u32 buckets: those wrap, and a Prometheus histogram never decreases.
  */
-static void put_histogram(struct prom_buf *b, const char *name,
-			  const struct rtsup_metric_stats *st, const char *const *labels)
+static void put_histogram(struct prom_buf *b, const char *name, const struct thread_model *tm,
+			  int metric, const char *const *labels)
 {
+	const struct rtsup_metric_stats *st = &tm->cur.m[metric];
+	__u64 own[HIST_BUCKETS], cum = 0;
+	const __u64 *h = own;
 	char bucket[96], le[32];
-	__u64 cum = 0;
 	size_t k = 0;
 	__u32 i;
+
+	if (tm->life_hist)
+		h = tm->life_hist->h[metric];
+	else
+		hist_delta(st->hist, NULL, own);
 
 	snprintf(bucket, sizeof(bucket), "%s_bucket", name);
 	for (i = 0; i < HIST_BUCKETS && k < NLE; i++) {
@@ -153,7 +162,7 @@ static void put_histogram(struct prom_buf *b, const char *name,
 			sample_kv(b, bucket, cum < st->count ? cum : st->count, labels, "le", le);
 			k++;
 		}
-		cum += st->hist[i];
+		cum += h[i];
 	}
 	for (; k < NLE; k++) {
 		snprintf(le, sizeof(le), "%g", le_ns[k] / 1e9);
@@ -355,8 +364,7 @@ static void render_threads(const struct prom_in *in, struct prom_buf *b)
 		if (!exported(&m->t[i]))
 			continue;
 		thread_labels(&m->t[i], &tl);
-		put_histogram(b, "rtsup_thread_latency_seconds",
-			      &m->t[i].cur.m[RTSUP_M_LATENCY], tl.l);
+		put_histogram(b, "rtsup_thread_latency_seconds", &m->t[i], RTSUP_M_LATENCY, tl.l);
 	}
 	prom_family(b, "rtsup_thread_exec_seconds", "histogram",
 		    "Execution time per cycle (wall clock): release to the next delimiter call.");
@@ -364,7 +372,7 @@ static void render_threads(const struct prom_in *in, struct prom_buf *b)
 		if (!exported(&m->t[i]))
 			continue;
 		thread_labels(&m->t[i], &tl);
-		put_histogram(b, "rtsup_thread_exec_seconds", &m->t[i].cur.m[RTSUP_M_EXEC], tl.l);
+		put_histogram(b, "rtsup_thread_exec_seconds", &m->t[i], RTSUP_M_EXEC, tl.l);
 	}
 
 	prom_family(b, "rtsup_thread_ewma_seconds", "gauge",

@@ -20,6 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include <sys/stat.h>
 #include <byteswap.h>
 #include <jansson.h>
 #include <zlib.h>
@@ -482,6 +483,14 @@ int rec_next(struct rec_reader *r, enum rec_type *type, void *buf, size_t *len,
 out:
 	seterr(err, errlen, "%s", r->msg);
 	return -1;
+}
+
+void rec_tell(const struct rec_reader *r, __u64 *done, __u64 *total)
+{
+	struct stat st;
+
+	*done = r->off;
+	*total = !fstat(fileno(r->f), &st) && S_ISREG(st.st_mode) ? (__u64)st.st_size : 0;
 }
 
 void rec_free(struct rec_reader *r)

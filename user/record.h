@@ -111,5 +111,7 @@ int rec_open(struct rec_reader **r, const char *path, struct rec_header *h, char
 int rec_next(struct rec_reader *r, enum rec_type *type, void *buf, size_t *len,
 	     char *err, size_t errlen);
 void rec_free(struct rec_reader *r);
+/* rec_tell - bytes read so far and the file's size (0 if unknown), for progress */
+void rec_tell(const struct rec_reader *r, __u64 *done, __u64 *total);
 
 #endif

@@ -8,10 +8,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "collector.h"
 #include "cycle.h"
 #include "output.h"
 #include "perfetto.h"
+#include "progress.h"
 #include "record.h"
 #include "replay.h"
 #include "sinks.h"
@@ -26,6 +28,7 @@ struct replay {
 	__u32 epoch;
 	__u64 start, last;
 	bool ended;
+	struct progress pg;	/* on stderr, cleared before each report */
 };
 
 /* thread_of - the model of a recorded thread */
@@ -143,6 +146,7 @@ static void on_mark(struct replay *r, const struct rec_interval *ri, bool end)
 	supervise_interval(r->s, &c->model, c->bank, &self, ri->mono_ns);
 	eventlog_finish(&c->events);
 	/* like a live run: the last, partial interval, then the summary */
+	progress_end(&r->pg);
 	output_interval(c, r->s, (ri->mono_ns - r->start) / 1e9, (ri->mono_ns - r->last) / 1e9);
 	if (end) {
 		output_summary(c, r->s, (ri->mono_ns - r->start) / 1e9);
@@ -184,6 +188,7 @@ int replay_run(const struct options *o, struct supervisor *s)
 	enum rec_type type;
 	char err[512];
 	size_t len;
+	__u64 done, total;
 	int n, ret = 1;
 
 	memset(&r, 0, sizeof(r));
@@ -201,7 +206,13 @@ int replay_run(const struct options *o, struct supervisor *s)
 		output_error(o, err);
 		goto out;
 	}
+	rec_tell(rd, &done, &total);
+	progress_start(&r.pg, stderr, total, !o->quiet && isatty(STDERR_FILENO));
 	while ((n = rec_next(rd, &type, &buf, &len, err, sizeof(err))) > 0 && !r.ended) {
+		if (progress_due(&r.pg)) {
+			rec_tell(rd, &done, &total);
+			progress_draw(&r.pg, done);
+		}
 		switch (type) {
 		case REC_THREAD:
 			on_thread(&r, &buf.t);
@@ -218,6 +229,7 @@ int replay_run(const struct options *o, struct supervisor *s)
 			break;
 		}
 	}
+	progress_end(&r.pg);
 	if (n < 0) {
 		output_error(o, err);
 		goto out;

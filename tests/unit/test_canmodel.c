@@ -16,6 +16,7 @@
 #include <cmocka.h>
 
 #include "canmodel.h"
+#include "hist.h"
 
 #define US	1000ULL
 #define MS	1000000ULL
@@ -331,6 +332,36 @@ static void test_iface_get(void **state)
 		assert_non_null(can_iface_get(&f->m, n, true));
 	assert_null(can_iface_get(&f->m, 999, true));
 	assert_int_equal(f->m.nifs, CANMODEL_MAX_IFS);
+}
+
+/*
+ * An identifier's gap bucket wraps between two intervals (0xFFFFFFF0 ->
+ * 0x10): the lifetime counts grow by 0x20, and its lifetime p50 stays put.
+ */
+static void test_gap_life_wrap(void **state)
+{
+	struct fx *f = *state;
+	struct rtsup_can_key k = { 3, 0x123, RX };
+	struct can_entry *e = can_entry_get(&f->m, &k, true);
+	__u32 b = hist_bucket(10000000);	/* 10 ms */
+	__u64 h[HIST_BUCKETS];
+	struct metric_view v;
+
+	e->cur.gap.hist[b] = 0xFFFFFFF0;
+	e->cur.gap.count = 0xFFFFFFF0;
+	e->cur.gap.sum = 0xFFFFFFF0ULL * 10000000;
+	e->cur.gap.min = e->cur.gap.max = 10000000;
+	can_model_next(&f->m);
+	e->cur.gap.hist[b] = 0x10;
+	e->cur.gap.count += 0x20;
+	e->cur.gap.sum += 0x20ULL * 10000000;
+	can_gap_life(e, h);
+	assert_int_equal(h[b], 0x100000010ULL);
+	can_model_next(&f->m);	/* and once folded in */
+	can_gap_life(e, h);
+	assert_int_equal(h[b], 0x100000010ULL);
+	can_gap_view_life(e, &v);
+	assert_int_equal(v.p50, 10000000);
 }
 
 static void test_component_name(void **state)
@@ -1268,6 +1299,7 @@ int main(void)
 		T(test_entries_small),
 		T(test_iface_get),
 		T(test_component_name),
+		T(test_gap_life_wrap),
 		T(test_model_next),
 		T(test_unnamed_learn_then_silent),
 		T(test_unnamed_burst_not_learned),

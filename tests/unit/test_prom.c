@@ -137,6 +137,37 @@ static void test_prom_counters_and_info(void **state)
 	assert_non_null(strstr(f->b.p, "# TYPE rtsup_lost_events_total counter\n"));
 }
 
+/*
+ * A kernel bucket wraps (0xFFFFFFF0 -> 0x10, 0x20 more values): the
+ * exposed counts keep growing, as a Prometheus histogram must.
+ */
+static void test_prom_histogram_monotonic_wrap(void **state)
+{
+	struct fixture *f = *state;
+	const char *lab = "{comm=\"lg-0\",tid=\"101\",tgid=\"100\",process=\"ctrl\"";
+	struct thread_model *tm = thread(&f->m, 101, "lg-0", 10);
+	struct rtsup_thread t = tm->cur;
+	struct rtsup_metric_stats *m = &t.m[RTSUP_M_EXEC];
+	char series[256];
+
+	/* 100 us exec: 0xFFFFFFF0 values so far */
+	m->hist[hist_bucket(100000)] = 0xFFFFFFF0;
+	m->count = 0xFFFFFFF0;
+	model_set(tm, &t, 1);
+	assert_int_equal(prom_render(&f->in, &f->b), 0);
+	snprintf(series, sizeof(series), "rtsup_thread_exec_seconds_bucket%s,le=\"0.00025\"}",
+		 lab);
+	assert_true(value_of(f->b.p, series) == (double)0xFFFFFFF0);
+
+	m->hist[hist_bucket(100000)] = 0x10;
+	m->count += 0x20;
+	model_set(tm, &t, 0);
+	assert_int_equal(prom_render(&f->in, &f->b), 0);
+	assert_true(value_of(f->b.p, series) == (double)0x100000010ULL);
+	snprintf(series, sizeof(series), "rtsup_thread_exec_seconds_bucket%s,le=\"+Inf\"}", lab);
+	assert_true(value_of(f->b.p, series) == (double)0x100000010ULL);
+}
+
 /* latency 10..1009 us: the buckets count what is surely below their bound */
 static void test_prom_histogram_cumulative(void **state)
 {
@@ -340,6 +371,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test_setup_teardown(test_prom_counters_and_info, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_prom_histogram_cumulative, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_prom_histogram_monotonic_wrap, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_prom_status_gauges, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_prom_exported_threads, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_prom_label_escaping, setup, teardown),
