@@ -448,6 +448,18 @@ static __always_inline void settle(struct rtsup_thread *t, struct cycle_switch_r
 		emit(RTSUP_EV_UNSAFE, t, r->now, RTSUP_U_MIGRATE, r->cpu);
 }
 
+/* running - the current thread is in a syscall of its own: it has a CPU */
+static __always_inline void running(struct rtsup_thread *t, __u64 now, const int btf)
+{
+	struct task_struct *task;
+
+	/* rare: an activation whose switch-in no hook saw (cycle.h) */
+	if (!cycle_switch_in_unseen(t))
+		return;
+	task = CURRENT(btf);
+	cycle_running(t, now, TREAD(btf, task, min_flt), TREAD(btf, task, maj_flt));
+}
+
 /* on_sys_enter - cycle delimiter or a syscall inside a cycle */
 static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int btf)
 {
@@ -465,6 +477,7 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 		return 0;
 	settle(t, held_switch_in());
 	now = bpf_ktime_get_ns();
+	running(t, now, btf);
 	if (id < 0 || id >= RTSUP_MAX_SYSCALLS)
 		return 0;
 	nr = id;
@@ -511,7 +524,12 @@ static __always_inline int on_sys_exit(const int btf)
 	struct rtsup_thread *t = lookup_thread(tid);
 	struct task_struct *task;
 
-	if (!t || !t->cs.in_delim)
+	if (!t)
+		return 0;
+	/* the exit is the first event of a thread switched in unseen */
+	if (cycle_switch_in_unseen(t))
+		running(t, bpf_ktime_get_ns(), btf);
+	if (!t->cs.in_delim)
 		return 0;
 	settle(t, held_switch_in());
 	task = CURRENT(btf);

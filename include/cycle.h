@@ -280,6 +280,15 @@ RTSUP_INLINE void cycle_wakeup(struct rtsup_thread *t, __u64 now)
 	t->cs.wake_ts = now;
 }
 
+/*
+ * cycle_wake_fresh - is the last wakeup this activation's? One that came
+ * before the previous activation began is stale: its own wakeup went unseen.
+ */
+RTSUP_INLINE int cycle_wake_fresh(const struct rtsup_cycle_state *cs, __u64 now)
+{
+	return cs->wake_ts && cs->wake_ts <= now && cs->wake_ts > cs->last_start;
+}
+
 /* cycle_switch_in - the thread gets a CPU */
 RTSUP_INLINE __u32 cycle_switch_in(struct rtsup_thread *t, __u64 now, __s32 cpu,
 				   __u64 minflt, __u64 majflt)
@@ -304,10 +313,42 @@ RTSUP_INLINE __u32 cycle_switch_in(struct rtsup_thread *t, __u64 now, __s32 cpu,
 	if (cs->mode != RTSUP_MODE_DELIM && !cs->start) {
 		/* activation: the wakeup is the expected release */
 		cs->mode = RTSUP_MODE_ACT;
-		cs->last_expected = cs->wake_ts && cs->wake_ts <= now ? cs->wake_ts : 0;
+		cs->last_expected = cycle_wake_fresh(cs, now) ? cs->wake_ts : 0;
 		cycle_begin(cs, now, minflt, majflt);
 	}
 	return ev;
+}
+
+/*
+ * cycle_switch_in_unseen - does a thread that runs (a syscall of its own)
+ * look off CPU? Only then does cycle_running read the clock and the faults.
+ */
+RTSUP_INLINE int cycle_switch_in_unseen(const struct rtsup_thread *t)
+{
+	return t->cs.mode == RTSUP_MODE_ACT && !t->cs.run_since;
+}
+
+/*
+ * cycle_running - the thread is in a syscall of its own, so it has a CPU.
+ * Tracepoints do not fire while some tasks are current (docs/design.md,
+ * "Unseen events"): a target woken and switched in from such a task has
+ * no sched_wakeup nor sched_switch, only its own syscalls. Between a block
+ * and such a syscall there was a switch-in: the activation begins here,
+ * without a latency (neither the wakeup nor the switch-in was seen).
+ */
+RTSUP_INLINE void cycle_running(struct rtsup_thread *t, __u64 now, __u64 minflt,
+				__u64 majflt)
+{
+	struct rtsup_cycle_state *cs = &t->cs;
+
+	if (!cycle_switch_in_unseen(t))
+		return;
+	cs->run_since = now;
+	if (cs->start)
+		return;	/* preempted, then switched in unseen: only its CPU time */
+	t->unseen_in++;
+	cs->last_expected = 0;
+	cycle_begin(cs, now, minflt, majflt);
 }
 
 /*

@@ -194,7 +194,7 @@ struct rtsup_thread {
 	__u32 epoch;		/* interval whose bank the stats write to */
 	__u32 resets;		/* times the stats restarted (first delimiter) */
 	__s32 exit_code;	/* task exit code: signal in bits 0-6, status in 8-15 */
-	__u32 pad2;
+	__u32 unseen_in;	/* activations begun with no switch-in seen (cycle_running) */
 	struct rtsup_metric_stats m[RTSUP_M_NR];
 };
 

@@ -41,6 +41,7 @@ struct span_view {
 	__u64 overruns;
 	__u64 vol_cs;
 	__u64 invol_cs;
+	__u64 unseen_in;	/* activations whose switch-in no hook saw */
 	__u64 migrations;
 	__u64 syscalls;
 	__u64 signals;

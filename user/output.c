@@ -83,8 +83,9 @@ static json_t *json_span(const struct span_view *s, const struct thread_model *t
 	}
 	json_object_set_new(o, "unsafe_syscalls", sys);
 	json_object_set_new(o, "context_switches",
-			    json_pack("{s:I,s:I}", "voluntary", (json_int_t)s->vol_cs,
-				      "involuntary", (json_int_t)s->invol_cs));
+			    json_pack("{s:I,s:I,s:I}", "voluntary", (json_int_t)s->vol_cs,
+				      "involuntary", (json_int_t)s->invol_cs,
+				      "unseen_switch_ins", (json_int_t)s->unseen_in));
 	json_object_set_new(o, "page_faults",
 			    json_pack("{s:I,s:I}", "minor", (json_int_t)s->minflt,
 				      "major", (json_int_t)s->majflt));

@@ -112,6 +112,13 @@ static __u32 sw_in(struct fx *f, __u64 now)
 	return cycle_switch_in(&f->t, now, f->cpu, f->minflt, f->majflt);
 }
 
+/* running - a syscall's entry or exit: the thread runs (the hooks' test first) */
+static void running(struct fx *f, __u64 now)
+{
+	if (cycle_switch_in_unseen(&f->t))
+		cycle_running(&f->t, now, f->minflt, f->majflt);
+}
+
 static __u32 sys(struct fx *f, int unsafe)
 {
 	settle(f);
@@ -545,6 +552,96 @@ static void test_cycle_activation_mode(void **state)
 	assert_int_equal(f->t.m[RTSUP_M_LATENCY].sum, 3 * US + 4 * US + 1 * US);
 }
 
+/*
+ * No tracepoint fires while some tasks are current: an activation woken
+ * and switched in from one shows only its own syscalls. It begins at the
+ * first of them, without a latency, and is counted as unseen.
+ */
+static void test_cycle_activation_unseen_switch_in(void **state)
+{
+	struct fx *f = *state;
+	__u64 s1 = T0 + 3 * US, x = T0 + 1 * MS + 9 * US;
+
+	cycle_wakeup(&f->t, T0);
+	sw_in(f, s1);
+	running(f, s1 + 1 * US);	/* seen switched in: nothing to do */
+	assert_int_equal(f->t.cs.start, s1);
+	assert_int_equal(sw_out(f, s1 + 100 * US, 1), CYC_EV_CLOSED);
+
+	/* no wakeup, no switch-in: its syscall's exit is the first event */
+	running(f, x);
+	assert_int_equal(f->t.unseen_in, 1);
+	assert_int_equal(sys(f, 1), CYC_EV_UNSAFE);
+	running(f, x + 5 * US);		/* once only */
+	assert_int_equal(sw_out(f, x + 80 * US, 1), CYC_EV_CLOSED);
+	assert_int_equal(f->out.start, x);
+	assert_int_equal(f->out.exec, 80 * US);
+	assert_int_equal(f->out.cpu, 80 * US);
+	assert_int_equal(f->out.period, x - s1);
+	assert_int_equal(f->out.unsafe_sys, 1);
+	assert_int_equal(f->out.flags, RTSUP_CF_HAS_PERIOD);	/* no latency */
+	assert_int_equal(f->t.cycles, 2);
+	assert_int_equal(f->t.unseen_in, 1);
+	assert_int_equal(f->t.m[RTSUP_M_LATENCY].count, 1);
+}
+
+/* a wakeup from before the previous activation is not this one's release */
+static void test_cycle_activation_stale_wakeup(void **state)
+{
+	struct fx *f = *state;
+	__u64 s1 = T0 + 3 * US, s2 = T0 + 1 * MS + 6 * US;
+
+	cycle_wakeup(&f->t, T0);
+	sw_in(f, s1);
+	sw_out(f, s1 + 100 * US, 1);
+	/* its wakeup went unseen, its switch-in did not */
+	sw_in(f, s2);
+	assert_int_equal(sw_out(f, s2 + 100 * US, 1), CYC_EV_CLOSED);
+	assert_int_equal(f->out.flags, RTSUP_CF_HAS_PERIOD);
+	assert_int_equal(f->t.m[RTSUP_M_LATENCY].count, 1);
+	assert_int_equal(f->t.m[RTSUP_M_LATENCY].sum, 3 * US);
+	assert_int_equal(f->t.unseen_in, 0);
+}
+
+/* preempted, then switched in unseen: the CPU time counts from its syscall */
+static void test_cycle_activation_unseen_resume(void **state)
+{
+	struct fx *f = *state;
+	__u64 s1 = T0 + 3 * US;
+
+	cycle_wakeup(&f->t, T0);
+	sw_in(f, s1);
+	assert_int_equal(sw_out(f, s1 + 30 * US, 0), 0);
+	running(f, s1 + 70 * US);
+	assert_int_equal(sw_out(f, s1 + 100 * US, 1), CYC_EV_CLOSED);
+	assert_int_equal(f->out.start, s1);
+	assert_int_equal(f->out.exec, 100 * US);
+	assert_int_equal(f->out.cpu, 30 * US + 30 * US);
+	assert_int_equal(f->out.preempt, 1);
+	assert_int_equal(f->t.unseen_in, 0);
+}
+
+/*
+ * A thread found running (no switch-in seen yet) is in no mode: its
+ * syscalls begin nothing, its first block ends nothing; and a delimiter
+ * thread's syscalls are not activations.
+ */
+static void test_cycle_unseen_needs_activation_mode(void **state)
+{
+	struct fx *f = *state;
+
+	running(f, T0);
+	assert_int_equal(f->t.cs.start, 0);
+	assert_int_equal(sw_out(f, T0 + 10 * US, 1), 0);
+	assert_int_equal(f->t.cycles, 0);
+
+	steady(f, T0 + 500 * US, 1, 2);
+	assert_int_equal(f->t.cs.mode, RTSUP_MODE_DELIM);
+	running(f, rel(2) + 50 * US);
+	assert_int_equal(f->t.unseen_in, 0);
+	assert_int_equal(f->t.cs.start, rel(2) + LAT);
+}
+
 /* the first delimiter after activations drops the start-up statistics */
 static void test_cycle_activation_then_delim_resets(void **state)
 {
@@ -795,6 +892,10 @@ int main(void)
 		T(test_cycle_page_faults),
 		T(test_cycle_activation_mode),
 		T(test_cycle_activation_then_delim_resets),
+		T(test_cycle_activation_unseen_switch_in),
+		T(test_cycle_activation_stale_wakeup),
+		T(test_cycle_activation_unseen_resume),
+		T(test_cycle_unseen_needs_activation_mode),
 		T(test_cycle_reset_lifetime_min),
 		T(test_cycle_exit_mid_cycle),
 		T(test_cycle_exit_in_delim),
