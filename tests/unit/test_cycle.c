@@ -87,7 +87,7 @@ static void leave(struct fx *f, __u64 now)
 		now = UNTIMED;
 		untimed_exit++;
 	}
-	cycle_delim_exit(&f->t, now, f->minflt, f->majflt);
+	cycle_delim_exit(&f->t, now, 0, f->minflt, f->majflt);
 }
 
 static __u32 sw_out(struct fx *f, __u64 now, int voluntary)
