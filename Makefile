@@ -38,7 +38,8 @@ UNIT_BINS := $(patsubst tests/unit/%.c,$(OUT)/tests/%,$(UNIT_SRCS))
 # keep the BPF objects: the skeleton and the benchmark use them
 .SECONDARY:
 
-all: $(OUT)/rtsup-trace $(OUT)/rtsup-loadgen $(OUT)/rtsup-cansim $(OUT)/progs/usleep_loop
+all: $(OUT)/rtsup-trace $(OUT)/rtsup-loadgen $(OUT)/rtsup-cansim \
+     $(OUT)/progs/usleep_loop $(OUT)/progs/timerfd_loop
 
 $(OUT) $(OUT)/user $(OUT)/tests:
 	$(Q)mkdir -p $@

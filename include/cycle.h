@@ -274,6 +274,7 @@ RTSUP_INLINE __u32 cycle_settle_period(struct rtsup_thread *t, const struct cycl
 				       __u64 now, __u64 expected, int absolute)
 {
 	struct rtsup_cycle_state *cs = &t->cs;
+	int startup = 0;	/* a cycle of start-up was counted */
 	__u64 d;
 
 	if (absolute && expected) {
@@ -285,20 +286,23 @@ RTSUP_INLINE __u32 cycle_settle_period(struct rtsup_thread *t, const struct cycl
 			if (cs->dist && cycle_same_dist(d, cs->dist)) {
 				cs->run++;
 			} else {
-				if (t->cycles)
-					cs->flags |= RTSUP_CS_DIRTY;
+				startup = t->cycles != 0;
 				cs->run = 1;
 				cs->dist = d;
 			}
 		} else {
-			if (cs->start)
-				cs->flags |= RTSUP_CS_DIRTY;
+			startup = cs->start != 0;
 			cs->run = 0;
 		}
-	} else if (cs->start) {
-		cs->flags |= RTSUP_CS_DIRTY;
+	} else {
+		startup = cs->start != 0;
 	}
-	if (cs->flags & RTSUP_CS_SETTLED || now < t->first_seen + cfg->warmup)
+	/* settled once: a later skipped release changes nothing (cycle_sys_mode) */
+	if (cs->flags & RTSUP_CS_SETTLED)
+		return 0;
+	if (startup)
+		cs->flags |= RTSUP_CS_DIRTY;
+	if (now < t->first_seen + cfg->warmup)
 		return 0;
 	if (cs->run < CYC_SETTLE_RUNS && (cs->flags & RTSUP_CS_ABS_SEEN || !cfg->warmup))
 		return 0;

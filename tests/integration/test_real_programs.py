@@ -84,3 +84,30 @@ def test_c_loop_with_usleep_inside(bpf, tmp_path):
     # misses: the cycles the program itself saw end past the next release
     late = len([i for i in truth["late"] if i >= first])
     assert late <= tot["deadline_misses"] <= late + 2
+
+
+def test_read_of_timerfd_is_the_only_boundary(bpf, tmp_path):
+    """--cycle-syscall with read as its fifth name: read ends a cycle only on
+    the fd the thread sleeps in (the timerfd), not on every read (the pipe
+    read inside the cycle); and the fifth name is not dropped."""
+    name, out, cycles = unique_prefix() + "tfd", tmp_path / "tfd.json", 2000
+    tr = Trace(["--comm", name, "--cycle-syscall",
+                "clock_nanosleep,nanosleep,epoll_wait,poll,read"])
+    try:
+        subprocess.run([str(ROOT / "build" / "progs" / "timerfd_loop"), name, "1000",
+                        str(cycles), str(out)], check=True, timeout=60)
+        _, summary, _ = tr.stop()
+    finally:
+        if tr.proc.poll() is None:
+            tr.proc.kill()
+    truth = json.loads(Path(out).read_text())
+    t = [x for x in summary["threads"] if x["tid"] == truth["tid"]][0]
+    tot = t["total"]
+    assert t["mode"] == "delimiter"
+    # the first timerfd read fixes the key; every cycle after it is counted
+    assert tot["cycles"] == pytest.approx(truth["cycles"], abs=1)
+    # a timer that expired more than once in a read stretches one cycle; the
+    # mean is (last release - first) / cycles, where the two ends are off by
+    # one wakeup latency (< 1 period) at most: < 0.1 % over 2000 cycles
+    period = 1e6 * (truth["cycles"] + truth["missed_expirations"]) / truth["cycles"]
+    assert tot["period_ns"]["mean"] == pytest.approx(period, rel=0.01)

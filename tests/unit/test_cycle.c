@@ -974,6 +974,11 @@ static void test_cycle_steady_settles_without_reset(void **state)
 	assert_int_equal(f->t.resets, 1);
 	assert_int_equal(f->t.cycles, 7);
 	assert_int_equal(cycle_sys_mode(&f->t.cs), RTSUP_MODE_DELIM);
+	/* an overrun skips a release later: the distance changes, nothing resets */
+	steady(f, rel(8) + LAT + EXEC, 10, 14);
+	assert_int_equal(f->t.resets, 1);
+	assert_int_equal(f->t.cycles, 12);
+	assert_int_equal(cycle_sys_mode(&f->t.cs), RTSUP_MODE_DELIM);
 }
 
 /* warmup: start-up lasts at least that long, and is dropped then */
