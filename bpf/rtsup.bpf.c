@@ -55,6 +55,7 @@ static __always_inline void zero_mem(void *p, __u32 n);
 /* Settings, written by userspace between open and load. */
 const volatile __u32 cfg_ewma_w = 102;	/* 0.1 of RTSUP_EWMA_ONE */
 const volatile __u64 cfg_period;	/* nominal period fallback, ns */
+const volatile __u64 cfg_warmup;	/* defaults' warmup: until a rule's is applied */
 const volatile __u32 cfg_rt;		/* --rt: every RT thread */
 const volatile __u32 cfg_cgroup;	/* --cgroup: match map cgroup */
 const volatile __u32 cfg_ncomm;
@@ -241,7 +242,7 @@ static __always_inline struct cycle_cfg cfg(const struct rtsup_thread_cfg *tc)
 		.ewma_w = tc && tc->ewma_w ? tc->ewma_w : cfg_ewma_w,
 		.epoch = epoch,
 		.period = tc && tc->period ? tc->period : cfg_period,
-		.warmup = tc ? tc->warmup : 0,
+		.warmup = tc && tc->warmup ? tc->warmup : cfg_warmup,
 	};
 	return c;
 }

@@ -13,6 +13,9 @@
 
 #define ARRAY_SIZE(a) (sizeof(a) / sizeof((a)[0]))
 
+_Static_assert(SYSCALLS_MAX_DELIMS <= RTSUP_CFG_DELIMS,
+	       "every --cycle-syscall name must fit a thread's settings in the kernel");
+
 /* Syscalls that break real-time behaviour inside a cycle, by category. */
 static const struct {
 	const char *name;

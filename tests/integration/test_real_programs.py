@@ -25,9 +25,9 @@ CYC_SETTLE_RUNS = 3
 pytestmark = pytest.mark.skipif(EMULATED, reason="host only: the programs' timing")
 
 
-def run_traced(cmd, name, out, timeout=60):
+def run_traced(cmd, name, out, timeout=60, args=()):
     """Trace the thread named 'name' while cmd runs; return (truth, thread)."""
-    tr = Trace(["--comm", name])
+    tr = Trace(["--comm", name] + list(args))
     try:
         subprocess.run(cmd, check=True, timeout=timeout)
         _, summary, _ = tr.stop()
@@ -113,3 +113,22 @@ def test_read_of_timerfd_is_the_only_boundary(bpf, tmp_path):
     # one wakeup latency (< 1 period) at most: < 0.1 % over 2000 cycles
     period = 1e6 * (truth["cycles"] + truth["missed_expirations"]) / truth["cycles"]
     assert tot["period_ns"]["mean"] == pytest.approx(period, rel=0.01)
+
+
+def test_warmup_extends_start_up(bpf, tmp_path):
+    """warmup: 1s in the config's defaults: the loop's period settles in a
+    few ms, but what it did in its first second is dropped."""
+    name, out, cycles = unique_prefix() + "w", tmp_path / "w.json", 2000
+    cfg = tmp_path / "warmup.yaml"
+    cfg.write_text("defaults:\n  warmup: 1s\n")
+    truth, t = run_traced([str(USLEEP_LOOP), name, "1000", str(cycles), str(out)], name, out,
+                          args=["--config", str(cfg)])
+    tot = t["total"]
+    # start-up ends at the first delimiter entry 1 s after the thread took
+    # its name (when rtsup first saw it), and the cycle ending there counts:
+    # the cycles the program ended after 1 s. The program reads its start a
+    # few us after the rename hook, and each end a few us before the entry:
+    # a cycle ending within those us of the boundary may go either way
+    after = len([e for e in truth["end_ns"] if e >= 1e9])
+    assert 0 < after < cycles
+    assert tot["cycles"] == pytest.approx(after, abs=1)

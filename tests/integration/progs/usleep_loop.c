@@ -3,7 +3,8 @@
  * usleep_loop.c - a real control loop for test_real_programs.py: a 1 ms
  * clock_nanosleep(TIMER_ABSTIME) loop that calls usleep(50) inside every
  * cycle, after a start-up that sleeps relatively and allocates. It writes
- * what it did as JSON: the cycles it ran and the ones it saw late itself.
+ * what it did as JSON: the cycles it ran, the ones it saw late itself, and
+ * when each ended (ns after it took its name).
  *
  * usage: usleep_loop NAME PERIOD_US CYCLES OUT.json
  */
@@ -48,7 +49,7 @@ static void sleep_until(long long at)
 int main(int argc, char **argv)
 {
 	struct sched_param sp = { .sched_priority = 10 };
-	long long period, next, *wake, *late_at;
+	long long period, next, start, *wake, *end, *late_at;
 	int cycles, i, nlate = 0;
 	char *buf;
 	FILE *f;
@@ -59,6 +60,7 @@ int main(int argc, char **argv)
 	}
 	/* the tracer follows the thread by this name from here on */
 	prctl(PR_SET_NAME, argv[1]);
+	start = mono();
 	period = atoll(argv[2]) * 1000;
 	cycles = atoi(argv[3]);
 	if (sched_setscheduler(0, SCHED_FIFO, &sp))
@@ -66,9 +68,10 @@ int main(int argc, char **argv)
 	/* start-up: a relative sleep, then allocations and page faults */
 	usleep(20000);
 	wake = calloc(cycles + 1, sizeof(*wake));
+	end = calloc(cycles + 1, sizeof(*end));
 	late_at = calloc(cycles + 1, sizeof(*late_at));
 	buf = malloc(1 << 20);
-	if (!wake || !late_at || !buf)
+	if (!wake || !end || !late_at || !buf)
 		return 1;
 	memset(buf, 1, 1 << 20);
 	memset(wake, 0, (cycles + 1) * sizeof(*wake));
@@ -82,7 +85,8 @@ int main(int argc, char **argv)
 		spin(20000);
 		next += period;
 		/* late: the next release is past when the cycle ends */
-		if (mono() >= next)
+		end[i] = mono();
+		if (end[i] >= next)
 			late_at[nlate++] = i;
 		sleep_until(next);
 	}
@@ -96,6 +100,10 @@ int main(int argc, char **argv)
 		(double)(wake[cycles] - wake[1]) / (cycles - 1));
 	for (i = 0; i < nlate; i++)
 		fprintf(f, "%s%lld", i ? ", " : "", late_at[i]);
+	/* when each cycle ended, from when the thread took its name */
+	fprintf(f, "], \"end_ns\": [");
+	for (i = 1; i <= cycles; i++)
+		fprintf(f, "%s%lld", i > 1 ? ", " : "", end[i] - start);
 	fprintf(f, "]}\n");
 	fclose(f);
 	return 0;
