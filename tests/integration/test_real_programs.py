@@ -5,8 +5,10 @@ loadgen never does (signals, usleep inside a cycle, start-up sleeps), and
 write their own truth as JSON; rtsup's numbers are compared with it.
 """
 import json
+import os
+import signal
 import subprocess
-import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -132,3 +134,35 @@ def test_warmup_extends_start_up(bpf, tmp_path):
     after = len([e for e in truth["end_ns"] if e >= 1e9])
     assert 0 < after < cycles
     assert tot["cycles"] == pytest.approx(after, abs=1)
+
+
+def test_stopped_and_continued_loop(bpf, tmp_path):
+    """SIGSTOP/SIGCONT (job control, a debugger) while the loop waits: the
+    kernel restarts the wait, which is neither a cycle boundary nor a block."""
+    name, out, cycles, stops = unique_prefix() + "st", tmp_path / "st.json", 2000, 5
+    tr = Trace(["--comm", name, "--cycle-syscall", "read"])
+    try:
+        p = subprocess.Popen([str(ROOT / "build" / "progs" / "timerfd_loop"), name, "1000",
+                              str(cycles), str(out)])
+        time.sleep(0.3)
+        for _ in range(stops):
+            os.kill(p.pid, signal.SIGSTOP)
+            time.sleep(0.02)
+            os.kill(p.pid, signal.SIGCONT)
+            time.sleep(0.1)
+        assert p.wait(timeout=60) == 0
+        _, summary, _ = tr.stop()
+    finally:
+        if tr.proc.poll() is None:
+            tr.proc.kill()
+    truth = json.loads(Path(out).read_text())
+    t = [x for x in summary["threads"] if x["tid"] == truth["tid"]][0]
+    tot = t["total"]
+    # the stops happened: each one let the timer expire ~20 times unread
+    assert truth["missed_expirations"] >= stops * 10
+    assert tot["signals"] >= stops
+    # one cycle per timerfd read, whatever the stops did (was one more per stop)
+    assert tot["cycles"] == pytest.approx(truth["cycles"], abs=1)
+    # a stop that lands in the ~5 us of work of a 1 ms cycle is a real block
+    # inside it: a chance of 1/200 per stop, so at most one of the five
+    assert tot["unsafe"]["block"] <= 1
