@@ -45,6 +45,12 @@
 /* Equal distances between absolute releases that make a settled period. */
 #define CYC_SETTLE_RUNS	3
 /*
+ * Relative sleeps in a row, with no absolute one, that make a thread a
+ * relative loop again (it slept to an absolute release once, in start-up):
+ * more than any cycle sleeps inside itself.
+ */
+#define CYC_REL_LOOP	64
+/*
  * A relative sleep re-entered after an interruption resumes the wait when
  * it asks for no later release than the interrupted one, give or take
  * this: our entry time is read a few us before the kernel arms its timer.
@@ -72,18 +78,27 @@ RTSUP_INLINE int cycle_ret_interrupted(long ret)
 /* cycle_sys_mode - the unsafe_sys key's mode: counts dropped at settling stay apart */
 RTSUP_INLINE __u16 cycle_sys_mode(const struct rtsup_cycle_state *cs)
 {
-	return cs->mode | (cs->flags & RTSUP_CS_SETTLED && cs->flags & RTSUP_CS_DIRTY ?
-			   RTSUP_MODE_SETTLED : 0);
+	int dropped = (cs->flags & RTSUP_CS_SETTLED) && (cs->flags & RTSUP_CS_DIRTY);
+
+	return cs->mode | (dropped ? RTSUP_MODE_SETTLED : 0);
 }
 
 /*
  * cycle_rel_sleep_in_loop - a relative sleep of a thread that sleeps to
  * absolute releases: a sleep inside its cycle (RT-unsafe), no delimiter.
+ * CYC_REL_LOOP of them in a row make it a relative loop again.
  */
-RTSUP_INLINE int cycle_rel_sleep_in_loop(const struct rtsup_thread *t, __u32 cls, int absolute)
+RTSUP_INLINE int cycle_rel_sleep_in_loop(struct rtsup_thread *t, __u32 cls, int absolute)
 {
-	return (cls & (RTSUP_SC_ABSSLEEP | RTSUP_SC_RELSLEEP)) && !absolute &&
-	       (t->cs.flags & RTSUP_CS_ABS_SEEN);
+	struct rtsup_cycle_state *cs = &t->cs;
+
+	if (!(cls & (RTSUP_SC_ABSSLEEP | RTSUP_SC_RELSLEEP)) || absolute ||
+	    !(cs->flags & RTSUP_CS_ABS_SEEN))
+		return 0;
+	if (++cs->rel_sleeps < CYC_REL_LOOP)
+		return 1;
+	cs->flags &= ~RTSUP_CS_ABS_SEEN;
+	return 0;
 }
 
 /*
@@ -279,6 +294,7 @@ RTSUP_INLINE __u32 cycle_settle_period(struct rtsup_thread *t, const struct cycl
 
 	if (absolute && expected) {
 		cs->flags |= RTSUP_CS_ABS_SEEN;
+		cs->rel_sleeps = 0;
 		if (cs->abs_expected && expected > cs->abs_expected) {
 			/* nominal period: distance between two requested releases */
 			d = expected - cs->abs_expected;

@@ -179,7 +179,7 @@ struct rtsup_cycle_state {
 	__u32 flags;		/* RTSUP_CS_* */
 	__u64 dist;		/* last distance between two absolute releases */
 	__u32 run;		/* consecutive absolute releases at distance 'dist' */
-	__u32 pad;
+	__u32 rel_sleeps;	/* relative sleeps since the last absolute one */
 	__u64 delim_key;	/* the wait that ends a cycle (keyed delimiters), 0 = not learned */
 	__u64 cand_key;		/* the key of the delimiter call in progress */
 	/* unsafe syscalls of the running cycle, by number, counted at its end */

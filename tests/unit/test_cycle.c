@@ -917,6 +917,32 @@ static void test_cycle_relative_sleep_inside_abs_loop(void **state)
 }
 
 /*
+ * a relative loop that slept to an absolute release once (in start-up) is
+ * a relative loop again after CYC_REL_LOOP relative sleeps in a row
+ */
+static void test_cycle_relative_loop_after_one_abs_sleep(void **state)
+{
+	struct fx *f = *state;
+	const __u32 sleep_cls = RTSUP_SC_RELSLEEP | RTSUP_SC_UNSAFE;
+	int k;
+
+	steady(f, rel(0), 1, 1);
+	for (k = 1; k < CYC_REL_LOOP; k++)
+		assert_true(cycle_rel_sleep_in_loop(&f->t, sleep_cls, 0));
+	assert_false(cycle_rel_sleep_in_loop(&f->t, sleep_cls, 0));
+	assert_false(cycle_rel_sleep_in_loop(&f->t, sleep_cls, 0));
+	/* an absolute loop with two usleeps per cycle stays one */
+	fx_teardown(state);
+	fx_setup(state);
+	f = *state;
+	for (k = 1; k <= 3 * CYC_REL_LOOP; k++) {
+		steady(f, rel(k - 1), k, k);
+		assert_true(cycle_rel_sleep_in_loop(&f->t, sleep_cls, 0));
+		assert_true(cycle_rel_sleep_in_loop(&f->t, sleep_cls, 0));
+	}
+}
+
+/*
  * start-up with a relative sleep, then an absolute loop: the start-up cycle
  * (with its mmap) is dropped when the period settles, and its unsafe
  * counts stay apart by key mode; the settled loop's cycles are all there
@@ -1069,6 +1095,7 @@ int main(void)
 		T(test_cycle_interrupted_sleep_abandoned),
 		T(test_cycle_interrupted_relative_sleep),
 		T(test_cycle_relative_sleep_inside_abs_loop),
+		T(test_cycle_relative_loop_after_one_abs_sleep),
 		T(test_cycle_startup_dropped_when_settled),
 		T(test_cycle_steady_settles_without_reset),
 		T(test_cycle_warmup),
