@@ -549,7 +549,8 @@ static __always_inline int on_sys_exit(long ret, const int btf)
 	task = CURRENT(btf);
 	/* a delimiter that slept was released at its switch-in: no clock */
 	cycle_delim_exit(t, cycle_delim_exit_timed(t) ? bpf_ktime_get_ns() : 0,
-			 cycle_ret_interrupted(ret), TREAD(btf, task, min_flt), TREAD(btf, task, maj_flt));
+			 cycle_ret_interrupted(ret), TREAD(btf, task, min_flt),
+			 TREAD(btf, task, maj_flt));
 	note_wake(t);
 	return 0;
 }
