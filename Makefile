@@ -38,7 +38,8 @@ UNIT_BINS := $(patsubst tests/unit/%.c,$(OUT)/tests/%,$(UNIT_SRCS))
 # keep the BPF objects: the skeleton and the benchmark use them
 .SECONDARY:
 
-all: $(OUT)/rtsup-trace $(OUT)/rtsup-loadgen $(OUT)/rtsup-cansim $(OUT)/rtsup-noise
+all: $(OUT)/rtsup-trace $(OUT)/rtsup-loadgen $(OUT)/rtsup-cansim $(OUT)/rtsup-noise \
+     $(OUT)/progs/usleep_loop $(OUT)/progs/timerfd_loop
 
 $(OUT) $(OUT)/user $(OUT)/tests:
 	$(Q)mkdir -p $@
@@ -101,6 +102,12 @@ $(OUT)/rtsup-noise: scripts/noise/noise.c | $(OUT)
 $(OUT)/rtsup-cansim: scripts/cansim/cansim.c | $(OUT)
 	$(call msg,CC,$@)
 	$(Q)$(CC) $(CFLAGS) $(WARN) $(CPPFLAGS) $< -lpthread -ljansson -o $@
+
+# Small real programs the integration tests trace (tests/integration/progs).
+$(OUT)/progs/%: tests/integration/progs/%.c
+	@mkdir -p $(@D)
+	$(call msg,CC,$@)
+	$(Q)$(CC) $(CFLAGS) $(WARN) $< -o $@
 
 # Unit tests: plain C from include/ and user/, no kernel, no root.
 UNIT_DEPS_test_model  := user/model.c

@@ -55,6 +55,7 @@ static __always_inline void zero_mem(void *p, __u32 n);
 /* Settings, written by userspace between open and load. */
 const volatile __u32 cfg_ewma_w = 102;	/* 0.1 of RTSUP_EWMA_ONE */
 const volatile __u64 cfg_period;	/* nominal period fallback, ns */
+const volatile __u64 cfg_warmup;	/* defaults' warmup: until a rule's is applied */
 const volatile __u32 cfg_rt;		/* --rt: every RT thread */
 const volatile __u32 cfg_cgroup;	/* --cgroup: match map cgroup */
 const volatile __u32 cfg_ncomm;
@@ -241,6 +242,7 @@ static __always_inline struct cycle_cfg cfg(const struct rtsup_thread_cfg *tc)
 		.ewma_w = tc && tc->ewma_w ? tc->ewma_w : cfg_ewma_w,
 		.epoch = epoch,
 		.period = tc && tc->period ? tc->period : cfg_period,
+		.warmup = tc && tc->warmup ? tc->warmup : cfg_warmup,
 	};
 	return c;
 }
@@ -347,7 +349,7 @@ static __always_inline struct rtsup_thread *add_thread(struct task_struct *task,
 /* count_sys - add to a thread's count of one unsafe syscall */
 static __always_inline void count_sys(struct rtsup_thread *t, __u32 nr, __u64 n)
 {
-	struct rtsup_sys_key k = { .tid = t->tid, .nr = nr, .mode = t->cs.mode };
+	struct rtsup_sys_key k = { .tid = t->tid, .nr = nr, .mode = cycle_sys_mode(&t->cs) };
 	__u64 *cnt = bpf_map_lookup_elem(&unsafe_sys, &k);
 
 	if (cnt)
@@ -432,6 +434,20 @@ static __always_inline __u64 sleep_release(struct pt_regs *regs, __u32 cls, __u6
 	return ns - clock_off[clk & 15];
 }
 
+/*
+ * wait_key - what a keyed delimiter waits on: its first argument (fd,
+ * futex word, pollfd array) with the syscall, and a futex's operation.
+ */
+static __always_inline __u64 wait_key(struct pt_regs *regs, __u32 nr, __u32 cls,
+				      const int btf)
+{
+	__u64 key = SYSARG(btf, regs, 1) ^ ((__u64)nr << 48);
+
+	if (cls & RTSUP_SC_OPKEY)
+		key ^= (SYSARG(btf, regs, 2) & 0x7f) << 56;
+	return key | 1ULL << 63;	/* never 0, fd 0 included */
+}
+
 /* held_switch_in - this CPU's held switch-in record */
 static __always_inline struct cycle_switch_rec *held_switch_in(void)
 {
@@ -491,8 +507,22 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 	else
 		delim = *cls & RTSUP_SC_DELIM;
 	if (delim) {
-		cf = cfg(tc);
 		expected = sleep_release(regs, *cls, now, &absolute, btf);
+		/* a relative sleep inside an absolute loop is no boundary */
+		if (cycle_rel_sleep_in_loop(t, *cls, absolute))
+			delim = 0;
+		else if (*cls & RTSUP_SC_KEYED)
+			delim = cycle_delim_key(&t->cs, wait_key(regs, nr, *cls, btf));
+		else
+			t->cs.cand_key = 0;
+	} else if ((*cls & RTSUP_SC_RESTART) && (t->cs.flags & RTSUP_CS_INTR)) {
+		/* the kernel resumes the interrupted sleep with its own arguments */
+		delim = 1;
+		absolute = t->cs.abs_expected != 0;
+		expected = absolute ? t->cs.abs_expected : t->cs.expected;
+	}
+	if (delim) {
+		cf = cfg(tc);
 		ev = cycle_delim_enter(t, &cf, now, expected, absolute,
 				       TREAD(btf, task, min_flt), TREAD(btf, task, maj_flt), &c);
 		note_wake(t);
@@ -512,13 +542,15 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 		/* by number at the cycle's end, like the other counts */
 		if (cycle_pend_sys(&t->cs, nr))
 			count_sys(t, nr, 1);
-		emit(RTSUP_EV_UNSAFE, t, now, RTSUP_U_SYSCALL, nr);
+		/* a signal handler's, unless the thread does not resume its wait */
+		if (!(t->cs.flags & RTSUP_CS_INTR))
+			emit(RTSUP_EV_UNSAFE, t, now, RTSUP_U_SYSCALL, nr);
 	}
 	return 0;
 }
 
 /* on_sys_exit - the delimiter returns: a new cycle is released */
-static __always_inline int on_sys_exit(const int btf)
+static __always_inline int on_sys_exit(long ret, const int btf)
 {
 	__u32 tid = (__u32)bpf_get_current_pid_tgid();
 	struct rtsup_thread *t = lookup_thread(tid);
@@ -535,7 +567,8 @@ static __always_inline int on_sys_exit(const int btf)
 	task = CURRENT(btf);
 	/* a delimiter that slept was released at its switch-in: no clock */
 	cycle_delim_exit(t, cycle_delim_exit_timed(t) ? bpf_ktime_get_ns() : 0,
-			 TREAD(btf, task, min_flt), TREAD(btf, task, maj_flt));
+			 cycle_ret_interrupted(ret), TREAD(btf, task, min_flt),
+			 TREAD(btf, task, maj_flt));
 	note_wake(t);
 	return 0;
 }
@@ -857,7 +890,7 @@ int BPF_PROG(sys_enter_##sfx, struct pt_regs *regs, long id)			\
 { return BODY(on_sys_enter(regs, id, btf)); }					\
 SEC(kind "/sys_exit")								\
 int BPF_PROG(sys_exit_##sfx, struct pt_regs *regs, long ret)			\
-{ return BODY(on_sys_exit(btf)); }							\
+{ return BODY(on_sys_exit(ret, btf)); }							\
 SEC(kind "/sched_switch")							\
 int BPF_PROG(sched_switch_##sfx, bool preempt, struct task_struct *prev,	\
 	     struct task_struct *next)						\

@@ -13,6 +13,15 @@
  * the delimiter syscall slept, or its exit if it did not sleep) to the next
  * delimiter entry. Activation mode, for threads that never call a
  * delimiter: from a switch-in after a voluntary block to the next one.
+ *
+ * Real loops bend this model; docs/cycle-model.md has the table. A
+ * delimiter interrupted by a signal releases a cycle only tentatively: if
+ * the thread goes back to the same wait, the wait goes on and what ran in
+ * between (a signal handler) belongs to no cycle. Once a thread has slept
+ * to absolute releases, its relative sleeps are sleeps inside the cycle.
+ * Start-up ends when the period settles (CYC_SETTLE_RUNS equal distances
+ * between absolute releases, and the configured warmup is over): cycles
+ * counted before, through start-up sleeps, are dropped then.
  */
 #ifndef RTSUP_CYCLE_H
 #define RTSUP_CYCLE_H
@@ -31,14 +40,79 @@
 #define CYC_EV_MIGRATE	0x08	/* migration inside a cycle */
 #define CYC_EV_UNSAFE	0x10	/* unsafe syscall inside a cycle */
 #define CYC_EV_FAULTS	0x20	/* the finished cycle had page faults */
-#define CYC_EV_RESET	0x40	/* first delimiter: start-up stats dropped */
+#define CYC_EV_RESET	0x40	/* first delimiter or settled period: start-up dropped */
+
+/* Equal distances between absolute releases that make a settled period. */
+#define CYC_SETTLE_RUNS	3
+/*
+ * Relative sleeps in a row, with no absolute one, that make a thread a
+ * relative loop again (it slept to an absolute release once, in start-up):
+ * more than any cycle sleeps inside itself.
+ */
+#define CYC_REL_LOOP	64
+/*
+ * A relative sleep re-entered after an interruption resumes the wait when
+ * it asks for no later release than the interrupted one, give or take
+ * this: our entry time is read a few us before the kernel arms its timer.
+ */
+#define CYC_REL_SLACK	20000ULL
 
 /* Settings the state machine needs; rodata on the BPF side. */
 struct cycle_cfg {
 	__u32 ewma_w;		/* EWMA weight, per RTSUP_EWMA_ONE */
 	__u32 epoch;		/* interval bank selector */
 	__u64 period;		/* nominal period when none can be derived */
+	__u64 warmup;		/* start-up lasts at least this after first_seen */
 };
+
+/*
+ * cycle_ret_interrupted - did a syscall return because of a signal? EINTR,
+ * or the ERESTART* codes (512..516) the sys_exit hook sees before the
+ * kernel restarts the call or turns them into EINTR.
+ */
+RTSUP_INLINE int cycle_ret_interrupted(long ret)
+{
+	return ret == -4 || (ret <= -512 && ret >= -516);
+}
+
+/* cycle_sys_mode - the unsafe_sys key's mode: counts dropped at settling stay apart */
+RTSUP_INLINE __u16 cycle_sys_mode(const struct rtsup_cycle_state *cs)
+{
+	int dropped = (cs->flags & RTSUP_CS_SETTLED) && (cs->flags & RTSUP_CS_DIRTY);
+
+	return cs->mode | (dropped ? RTSUP_MODE_SETTLED : 0);
+}
+
+/*
+ * cycle_rel_sleep_in_loop - a relative sleep of a thread that sleeps to
+ * absolute releases: a sleep inside its cycle (RT-unsafe), no delimiter.
+ * CYC_REL_LOOP of them in a row make it a relative loop again.
+ */
+RTSUP_INLINE int cycle_rel_sleep_in_loop(struct rtsup_thread *t, __u32 cls, int absolute)
+{
+	struct rtsup_cycle_state *cs = &t->cs;
+
+	if (!(cls & (RTSUP_SC_ABSSLEEP | RTSUP_SC_RELSLEEP)) || absolute ||
+	    !(cs->flags & RTSUP_CS_ABS_SEEN))
+		return 0;
+	if (++cs->rel_sleeps < CYC_REL_LOOP)
+		return 1;
+	cs->flags &= ~RTSUP_CS_ABS_SEEN;
+	return 0;
+}
+
+/*
+ * cycle_delim_key - is this call of a keyed delimiter (a wait on an fd or
+ * a futex: key != 0) the thread's cycle boundary? Only the wait it first
+ * slept in is (learned at its switch-out); others are plain syscalls.
+ */
+RTSUP_INLINE int cycle_delim_key(struct rtsup_cycle_state *cs, __u64 key)
+{
+	if (key && cs->delim_key && key != cs->delim_key)
+		return 0;
+	cs->cand_key = key;
+	return 1;
+}
 
 /* cycle_thread_init - fresh thread entry (all-zero memory assumed) */
 RTSUP_INLINE void cycle_thread_init(struct rtsup_thread *t, __u32 tid,
@@ -179,6 +253,86 @@ RTSUP_SUBPROG void cycle_account(struct rtsup_thread *t, const struct cycle_cfg 
 }
 
 /*
+ * cycle_delim_resumes - does this delimiter entry go back to the wait that
+ * a signal interrupted (same absolute release, or a relative one that
+ * ends no later), or does the thread start a new one?
+ */
+RTSUP_INLINE int cycle_delim_resumes(const struct rtsup_cycle_state *cs, __u64 now,
+				     __u64 expected, int absolute)
+{
+	if (!(cs->flags & RTSUP_CS_INTR))
+		return 0;
+	if (absolute)
+		return expected && expected == cs->abs_expected;
+	if (cs->abs_expected || !expected || !cs->expected)
+		return !cs->abs_expected && !expected && !cs->expected;
+	/* the time since the interrupted return is not part of the remainder */
+	return expected - (now > cs->start ? now - cs->start : 0) <=
+	       cs->expected + CYC_REL_SLACK;
+}
+
+/* cycle_same_dist - two distances between releases equal within 1/64 (rounding of the program) */
+RTSUP_INLINE int cycle_same_dist(__u64 a, __u64 b)
+{
+	__u64 d = a > b ? a - b : b - a;
+
+	return d <= (b >> 6);
+}
+
+/*
+ * cycle_settle_period - learn the nominal period from the requested
+ * releases and end start-up once it settled: CYC_EV_RESET when the cycles
+ * counted so far were start-up's (a start-up sleep, a changed distance)
+ * or a warmup was configured.
+ */
+RTSUP_INLINE __u32 cycle_settle_period(struct rtsup_thread *t, const struct cycle_cfg *cfg,
+				       __u64 now, __u64 expected, int absolute)
+{
+	struct rtsup_cycle_state *cs = &t->cs;
+	int startup = 0;	/* a cycle of start-up was counted */
+	__u64 d;
+
+	if (absolute && expected) {
+		cs->flags |= RTSUP_CS_ABS_SEEN;
+		cs->rel_sleeps = 0;
+		if (cs->abs_expected && expected > cs->abs_expected) {
+			/* nominal period: distance between two requested releases */
+			d = expected - cs->abs_expected;
+			cs->nominal = d;
+			if (cs->dist && cycle_same_dist(d, cs->dist)) {
+				cs->run++;
+			} else {
+				startup = t->cycles != 0;
+				cs->run = 1;
+				cs->dist = d;
+			}
+		} else {
+			startup = cs->start != 0;
+			cs->run = 0;
+		}
+	} else {
+		startup = cs->start != 0;
+	}
+	/* settled once: a later skipped release changes nothing (cycle_sys_mode) */
+	if (cs->flags & RTSUP_CS_SETTLED)
+		return 0;
+	if (startup)
+		cs->flags |= RTSUP_CS_DIRTY;
+	if (now < t->first_seen + cfg->warmup)
+		return 0;
+	if (cs->run < CYC_SETTLE_RUNS && (cs->flags & RTSUP_CS_ABS_SEEN || !cfg->warmup))
+		return 0;
+	cs->flags |= RTSUP_CS_SETTLED;
+	if (cfg->warmup)
+		cs->flags |= RTSUP_CS_DIRTY;
+	if (!(cs->flags & RTSUP_CS_DIRTY))
+		return 0;
+	/* the cycle that ends now is the settled loop's: dropped before it is counted */
+	cycle_reset_stats(t);
+	return CYC_EV_RESET;
+}
+
+/*
  * cycle_delim_enter - the thread enters its delimiter syscall. 'expected'
  * is the requested release in CLOCK_MONOTONIC ns (0 when unknown);
  * 'absolute' when the thread asked for that time itself (TIMER_ABSTIME):
@@ -202,10 +356,14 @@ RTSUP_INLINE __u32 cycle_delim_enter(struct rtsup_thread *t, const struct cycle_
 		cs->last_start = 0;
 		cs->last_expected = 0;
 	}
-	/* nominal period: distance between two requested releases */
-	if (absolute && expected && cs->abs_expected && expected > cs->abs_expected)
-		cs->nominal = expected - cs->abs_expected;
-	cs->abs_expected = absolute ? expected : 0;
+	if (cycle_delim_resumes(cs, now, expected, absolute)) {
+		/* the same wait goes on: the signal handler was no cycle */
+		cs->start = 0;
+	} else {
+		ev |= cycle_settle_period(t, cfg, now, expected, absolute);
+		cs->abs_expected = absolute ? expected : 0;
+	}
+	cs->flags &= ~RTSUP_CS_INTR;
 	if (cs->start) {
 		ev |= cycle_close(t, cfg, now, minflt, majflt, out);
 		if (absolute && expected && expected <= now) {
@@ -233,8 +391,12 @@ RTSUP_INLINE int cycle_delim_exit_timed(const struct rtsup_thread *t)
 	return t->cs.in_delim && !t->cs.in_ts;
 }
 
-/* cycle_delim_exit - the delimiter returns: the next cycle is released */
-RTSUP_INLINE void cycle_delim_exit(struct rtsup_thread *t, __u64 now,
+/*
+ * cycle_delim_exit - the delimiter returns: the next cycle is released.
+ * 'interrupted' (cycle_ret_interrupted): only tentatively, until the
+ * thread's next delimiter entry tells whether it resumes the same wait.
+ */
+RTSUP_INLINE void cycle_delim_exit(struct rtsup_thread *t, __u64 now, int interrupted,
 				   __u64 minflt, __u64 majflt)
 {
 	struct rtsup_cycle_state *cs = &t->cs;
@@ -243,8 +405,12 @@ RTSUP_INLINE void cycle_delim_exit(struct rtsup_thread *t, __u64 now,
 	if (!cs->in_delim)
 		return;
 	cs->in_delim = 0;
+	if (interrupted)
+		cs->flags |= RTSUP_CS_INTR;
 	/* no requested release (epoll, read): latency counts from wakeup */
-	if (cs->expected)
+	if (interrupted)
+		cs->last_expected = 0;	/* released before its time: no latency */
+	else if (cs->expected)
 		cs->last_expected = cs->expected;
 	else if (cs->wake_ts && cs->wake_ts <= start)
 		cs->last_expected = cs->wake_ts;
@@ -418,7 +584,9 @@ RTSUP_INLINE __u32 cycle_switch_out(struct rtsup_thread *t, const struct cycle_c
 		t->invol_cs++;
 	if (cs->in_delim) {
 		if (voluntary) {
-			/* it sleeps: the release comes later */
+			/* it sleeps: the release comes later, and this is its wait */
+			if (!cs->delim_key)
+				cs->delim_key = cs->cand_key;
 			cs->in_ts = 0;
 			cs->cpu_acc = 0;
 			cs->preempt = 0;
@@ -439,7 +607,9 @@ RTSUP_INLINE __u32 cycle_switch_out(struct rtsup_thread *t, const struct cycle_c
 		cs->preempt++;
 	} else if (cs->mode == RTSUP_MODE_DELIM) {
 		cs->blocks++;
-		ev |= CYC_EV_BLOCK;
+		/* a stop or a handler after an interrupted sleep: reported if no resume */
+		if (!(cs->flags & RTSUP_CS_INTR))
+			ev |= CYC_EV_BLOCK;
 	} else {
 		ev |= cycle_close(t, cfg, now, minflt, majflt, out);
 		cycle_account(t, cfg, out);

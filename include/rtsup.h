@@ -74,6 +74,9 @@ enum rtsup_unsafe {
 #define RTSUP_SC_FDCHECK	0x04	/* unsafe only on a regular file or tty */
 #define RTSUP_SC_ABSSLEEP	0x08	/* clock_nanosleep: (clk, flags, req, rem) */
 #define RTSUP_SC_RELSLEEP	0x10	/* nanosleep: (req, rem) */
+#define RTSUP_SC_RESTART	0x20	/* restart_syscall: resumes an interrupted sleep */
+#define RTSUP_SC_KEYED		0x40	/* a wait on its first argument (fd, futex) */
+#define RTSUP_SC_OPKEY		0x80	/* and on its operation (futex) */
 
 /* Cycle modes: how a thread's cycles are delimited. */
 enum rtsup_mode {
@@ -81,6 +84,18 @@ enum rtsup_mode {
 	RTSUP_MODE_ACT,		/* activations: wakeup to next block */
 	RTSUP_MODE_DELIM,	/* delimiter syscall */
 };
+
+/*
+ * Bit of the unsafe_sys key's mode once a delimiter thread's period has
+ * settled (cycle_sys_mode): what start-up counted stays apart.
+ */
+#define RTSUP_MODE_SETTLED	0x100
+
+/* Flags of the cycle state (rtsup_cycle_state.flags). */
+#define RTSUP_CS_INTR		0x01	/* the delimiter was interrupted: maybe resumed */
+#define RTSUP_CS_ABS_SEEN	0x02	/* the thread has slept to absolute releases */
+#define RTSUP_CS_SETTLED	0x04	/* the period settled: start-up is over */
+#define RTSUP_CS_DIRTY		0x08	/* start-up cycles were counted: drop them at settling */
 
 /*
  * Log-linear histogram: values below 2^HIST_SUB_BITS get a bucket each,
@@ -161,7 +176,12 @@ struct rtsup_cycle_state {
 	__u32 migrations;
 	__u32 syscalls;
 	__u32 unsafe_sys;
-	__u32 pad;
+	__u32 flags;		/* RTSUP_CS_* */
+	__u64 dist;		/* last distance between two absolute releases */
+	__u32 run;		/* consecutive absolute releases at distance 'dist' */
+	__u32 rel_sleeps;	/* relative sleeps since the last absolute one */
+	__u64 delim_key;	/* the wait that ends a cycle (keyed delimiters), 0 = not learned */
+	__u64 cand_key;		/* the key of the delimiter call in progress */
 	/* unsafe syscalls of the running cycle, by number, counted at its end */
 	__u16 pend_nr[RTSUP_PEND_SYS];
 	__u16 pend_cnt[RTSUP_PEND_SYS];
@@ -198,7 +218,7 @@ struct rtsup_thread {
 	struct rtsup_metric_stats m[RTSUP_M_NR];
 };
 
-#define RTSUP_CFG_DELIMS	4
+#define RTSUP_CFG_DELIMS	8	/* as many as --cycle-syscall takes */
 #define RTSUP_CFG_SYSCALLS	8
 
 /*
@@ -207,6 +227,7 @@ struct rtsup_thread {
  */
 struct rtsup_thread_cfg {
 	__u64 period;			/* nominal period, 0 = global */
+	__u64 warmup;			/* start-up lasts at least this, ns (config warmup:) */
 	__u32 ewma_w;			/* 0 = global */
 	__u32 ndelims;			/* 0 = the global delimiters */
 	__u16 delims[RTSUP_CFG_DELIMS];

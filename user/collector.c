@@ -188,7 +188,7 @@ static void read_unsafe_sys(struct collector *c)
 			continue;
 		tm = model_get(&c->model, key.tid, false);
 		/* counts of the start-up phase stay out of a delimiter thread */
-		if (tm && key.mode == tm->cur.cs.mode)
+		if (tm && key.mode == cycle_sys_mode(&tm->cur.cs))
 			model_sys_set(tm, key.nr, n);
 	}
 }
@@ -458,6 +458,7 @@ void collector_apply_rules(struct collector *c, const struct supervisor *s)
 			continue;
 		r = supervise_rule(s, tm);
 		tc.period = r->period_ns;
+		tc.warmup = r->warmup_ns;
 		tc.ewma_w = (__u32)(r->ewma_weight * RTSUP_EWMA_ONE + 0.5);
 		tc.ndelims = syscall_list(tc.delims, RTSUP_CFG_DELIMS, (char (*)[32])r->delims,
 					  r->ndelims);

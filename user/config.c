@@ -145,6 +145,7 @@ static const struct field thresholds_f[] = {
 static const struct field rule_f[] = {
 	{ .key = "period", .type = F_DURATION, .off = R(period_ns), .flag = RF_PERIOD },
 	{ .key = "ewma_weight", .type = F_EWMA, .off = R(ewma_weight), .flag = RF_EWMA },
+	{ .key = "warmup", .type = F_DURATION, .off = R(warmup_ns), .flag = RF_WARMUP },
 	{ .key = "cycle_syscalls", .type = F_SYSLIST, .off = R(delims), .off2 = R(ndelims),
 	  .max = MAX_DELIMS, .flag = RF_DELIMS },
 	{ .key = "policy", .type = F_POLICY, .off = R(policy), .flag = RF_POLICY },

@@ -53,6 +53,7 @@ enum rule_field {
 	RF_PRIO = 1 << 4,
 	RF_ALLOW = 1 << 5,
 	RF_FORBID = 1 << 6,
+	RF_WARMUP = 1 << 7,
 };
 
 struct rule {
@@ -63,6 +64,7 @@ struct rule {
 	char match_cgroup[CONFIG_PATH_LEN];	/* cgroup v2 path prefix, e.g. /robot.slice */
 	__u32 set;				/* RF_* given by this rule */
 	__u64 period_ns;			/* expected period, 0 = derive */
+	__u64 warmup_ns;			/* start-up lasts at least this */
 	double ewma_weight;			/* 0 < w <= 1 */
 	char delims[CONFIG_MAX_SYSCALLS][32];	/* cycle delimiter syscalls */
 	int ndelims;

@@ -144,6 +144,7 @@ int loader_start(struct loader *l, const struct options *o)
 			bpf_program__set_autoload(p, false);
 	s->rodata->cfg_ewma_w = o->ewma_w;
 	s->rodata->cfg_period = o->period_ns;
+	s->rodata->cfg_warmup = o->warmup_ns;
 	s->rodata->cfg_rt = o->targets.rt;
 	s->rodata->cfg_cgroup = o->targets.cgroup != NULL || o->unit;
 	s->rodata->cfg_ncomm = o->targets.ncomms;

@@ -238,6 +238,8 @@ static int run_live(struct options *o, struct supervisor *s)
 	if (robot_prepare(&rb, o, s) || check_targets(o) || (o->can && can_resolve(o)))
 		return 1;
 	o->canopen = s->cfg.can.canopen;
+	/* known from the start: a thread's period may settle before its rule is applied */
+	o->warmup_ns = s->cfg.defaults.warmup_ns;
 	if (o->cmd) {
 		child = spawn_cmd(o->cmd, &go_fd);
 		if (child < 0) {

@@ -19,6 +19,7 @@ struct options {
 	int ndelims;
 	__u32 ewma_w;		/* per RTSUP_EWMA_ONE */
 	__u64 period_ns;	/* nominal period when none is derived */
+	__u64 warmup_ns;	/* config defaults' warmup: */
 	__u32 max_threads;
 	int color;		/* -1 auto, 0 never, 1 always */
 	bool delims_given;	/* command-line settings win over the config's defaults */

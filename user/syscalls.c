@@ -13,6 +13,9 @@
 
 #define ARRAY_SIZE(a) (sizeof(a) / sizeof((a)[0]))
 
+_Static_assert(SYSCALLS_MAX_DELIMS <= RTSUP_CFG_DELIMS,
+	       "every --cycle-syscall name must fit a thread's settings in the kernel");
+
 /* Syscalls that break real-time behaviour inside a cycle, by category. */
 static const struct {
 	const char *name;
@@ -74,6 +77,29 @@ static const struct {
 } sleep_table[] = {
 	{ "clock_nanosleep", RTSUP_SC_ABSSLEEP },
 	{ "nanosleep", RTSUP_SC_RELSLEEP },
+	{ "restart_syscall", RTSUP_SC_RESTART },
+};
+
+/*
+ * Waits that end a cycle only on what the thread sleeps on at the cycle's
+ * end: their first argument (fd, futex word, pollfd array) is the key.
+ */
+static const struct {
+	const char *name;
+	__u32 flags;
+} keyed_table[] = {
+	{ "read", RTSUP_SC_KEYED },
+	{ "readv", RTSUP_SC_KEYED },
+	{ "pread64", RTSUP_SC_KEYED },
+	{ "recvfrom", RTSUP_SC_KEYED },
+	{ "recvmsg", RTSUP_SC_KEYED },
+	{ "recvmmsg", RTSUP_SC_KEYED },
+	{ "epoll_wait", RTSUP_SC_KEYED },
+	{ "epoll_pwait", RTSUP_SC_KEYED },
+	{ "epoll_pwait2", RTSUP_SC_KEYED },
+	{ "poll", RTSUP_SC_KEYED },
+	{ "ppoll", RTSUP_SC_KEYED },
+	{ "futex", RTSUP_SC_KEYED | RTSUP_SC_OPKEY },
 };
 
 int syscall_nr(const char *name)
@@ -123,6 +149,11 @@ int sysclass_build(__u32 *table, size_t n, const char *const *delims,
 		nr = syscall_nr(sleep_table[i].name);
 		if (nr >= 0 && (size_t)nr < n)
 			table[nr] |= sleep_table[i].flags;
+	}
+	for (i = 0; i < ARRAY_SIZE(keyed_table); i++) {
+		nr = syscall_nr(keyed_table[i].name);
+		if (nr >= 0 && (size_t)nr < n)
+			table[nr] |= keyed_table[i].flags;
 	}
 	for (d = 0; d < ndelims; d++) {
 		nr = syscall_nr(delims[d]);

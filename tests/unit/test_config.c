@@ -213,6 +213,22 @@ static void test_config_can_defaults(void **state)
 	config_free(&e);
 }
 
+/* warmup: per rule or inherited; cycle_syscalls keeps more than 4 names */
+static void test_config_warmup(void **state)
+{
+	struct config c;
+
+	(void)state;
+	load_ok(DIR "warmup.yaml", &c);
+	assert_int_equal(c.defaults.warmup_ns, 2000000000ULL);
+	assert_int_equal(c.nrules, 2);
+	assert_int_equal(c.rules[0].warmup_ns, 500000000ULL);
+	assert_int_equal(c.rules[0].ndelims, 5);
+	assert_string_equal(c.rules[0].delims[4], "futex");
+	assert_int_equal(c.rules[1].warmup_ns, 2000000000ULL);
+	config_free(&c);
+}
+
 /* every key of can-full.yaml lands in its field */
 static void test_config_can_full(void **state)
 {
@@ -892,7 +908,7 @@ BAD(syscall, "bad-syscall.yaml", "3:30: unknown syscall 'frobnicate' in forbid_s
 BAD(cycle_syscall, "bad-cycle-syscall.yaml",
     "2:37: unknown syscall 'sleep_forever' in cycle_syscalls")
 BAD(too_many_delims, "bad-too-many-delims.yaml",
-    "2:68: too many syscalls in cycle_syscalls (at most 4)")
+    "2:97: too many syscalls in cycle_syscalls (at most 8)")
 BAD(too_many_allow, "bad-too-many-allow.yaml",
     "2:85: too many syscalls in allow_syscalls (at most 8)")
 BAD(empty_delims, "bad-empty-delims.yaml", "2:19: cycle_syscalls must not be empty")
@@ -1016,6 +1032,7 @@ int main(void)
 		T(bad_bool),
 		T(bad_syscall),
 		T(bad_cycle_syscall),
+		cmocka_unit_test(test_config_warmup),
 		T(bad_too_many_delims),
 		T(bad_too_many_allow),
 		T(bad_empty_delims),

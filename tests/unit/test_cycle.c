@@ -87,7 +87,7 @@ static void leave(struct fx *f, __u64 now)
 		now = UNTIMED;
 		untimed_exit++;
 	}
-	cycle_delim_exit(&f->t, now, f->minflt, f->majflt);
+	cycle_delim_exit(&f->t, now, 0, f->minflt, f->majflt);
 }
 
 static __u32 sw_out(struct fx *f, __u64 now, int voluntary)
@@ -872,6 +872,294 @@ static void test_cycle_steady_loop_reads_clock_once_per_switch_in(void **state)
 	assert_false(cycle_delim_exit_timed(&f->t));
 }
 
+/*
+ * interrupted - the delimiter sleeping for release k is woken by a signal
+ * at 'sig' (switched in 3 us later) and returns EINTR or ERESTART*.
+ */
+static void interrupted(struct fx *f, __u64 sig)
+{
+	assert_int_equal(sw_out(f, sig - 100 * US, 1), 0);
+	cycle_wakeup(&f->t, sig);
+	assert_int_equal(sw_in(f, sig + 3 * US), 0);
+	settle(f);
+	cycle_delim_exit(&f->t, cycle_delim_exit_timed(&f->t) ? sig + 4 * US : UNTIMED, 1,
+			 f->minflt, f->majflt);
+}
+
+/*
+ * a signal interrupts the sleep, its handler runs, the thread sleeps to the
+ * same release again (CPython's time.sleep, restart_syscall): one cycle,
+ * not two; the handler is no part of it (issue 12 item 1)
+ */
+static void test_cycle_interrupted_sleep_resumes(void **state)
+{
+	struct fx *f = *state;
+	__u64 now = steady(f, rel(0), 1, 3), sig = rel(4) - 400 * US;
+
+	assert_int_equal(cycle_ret_interrupted(-4), 1);		/* EINTR */
+	assert_int_equal(cycle_ret_interrupted(-514), 1);	/* ERESTARTNOHAND */
+	assert_int_equal(cycle_ret_interrupted(-516), 1);	/* ERESTART_RESTARTBLOCK */
+	assert_int_equal(cycle_ret_interrupted(-11), 0);
+	assert_int_equal(cycle_ret_interrupted(0), 0);
+	assert_int_equal(cycle_ret_interrupted(-517), 0);
+
+	assert_int_equal(enter(f, now, rel(4)), CYC_EV_CLOSED);
+	assert_int_equal(f->t.cycles, 3);
+	interrupted(f, sig);
+	/* the handler: a syscall, a page fault, then the same wait again */
+	sys(f, 0);
+	f->minflt++;
+	assert_int_equal(enter(f, sig + 30 * US, rel(4)), 0);
+	assert_int_equal(f->t.cycles, 3);
+	wake_up(f, 4);
+	assert_int_equal(enter(f, rel(4) + LAT + EXEC, rel(5)), CYC_EV_CLOSED);
+	assert_int_equal(f->t.cycles, 4);
+	assert_int_equal(f->out.start, rel(4) + LAT);
+	assert_int_equal(f->out.exec, EXEC);
+	assert_int_equal(f->out.period, MS);
+	assert_int_equal(f->out.latency, LAT);
+	assert_int_equal(f->out.syscalls, 0);
+	assert_int_equal(f->out.minflt, 0);
+	assert_int_equal(f->t.m[RTSUP_M_PERIOD].min, MS);
+	assert_int_equal(f->t.m[RTSUP_M_LATENCY].min, LAT);
+	assert_int_equal(f->t.misses, 0);
+}
+
+/*
+ * SIGSTOP/SIGCONT, ptrace: the stopped thread is no block, and the
+ * restarted sleep (restart_syscall: the same release) no overrun
+ */
+static void test_cycle_stopped_sleep_restarts(void **state)
+{
+	struct fx *f = *state;
+	__u64 now = steady(f, rel(0), 1, 3), stop = rel(4) - 600 * US;
+
+	f->cfg.period = MS;
+	enter(f, now, rel(4));
+	interrupted(f, stop);
+	/* stopped: off CPU for 800 us, past its release, a voluntary switch */
+	assert_int_equal(sw_out(f, stop + 5 * US, 1), 0);
+	cycle_wakeup(&f->t, stop + 800 * US);
+	sw_in(f, stop + 800 * US + 2 * US);
+	/* restart_syscall: the kernel side passes the interrupted release */
+	assert_int_equal(enter(f, stop + 800 * US + 3 * US, f->t.cs.abs_expected), 0);
+	assert_int_equal(f->t.cs.flags & RTSUP_CS_INTR, 0);
+	/* the release is past: it returns at once */
+	leave(f, stop + 800 * US + 4 * US);
+	assert_int_equal(enter(f, stop + 800 * US + 4 * US + EXEC, rel(5)), CYC_EV_CLOSED);
+	assert_int_equal(f->out.exec, EXEC);
+	assert_int_equal(f->out.blocks, 0);
+	assert_false(f->out.flags & RTSUP_CF_OVERRUN);
+	assert_int_equal(f->t.overruns, 0);
+	assert_int_equal(f->t.unsafe[RTSUP_U_BLOCK], 0);
+	assert_int_equal(f->t.cycles, 4);
+}
+
+/*
+ * a loop that ignores EINTR and starts its work early: that cycle is real,
+ * from the interrupted return, with no latency (released before its time)
+ */
+static void test_cycle_interrupted_sleep_abandoned(void **state)
+{
+	struct fx *f = *state;
+	__u64 now = steady(f, rel(0), 1, 3), sig = rel(4) - 400 * US;
+
+	enter(f, now, rel(4));
+	interrupted(f, sig);
+	assert_int_equal(enter(f, sig + 3 * US + EXEC, rel(5)), CYC_EV_CLOSED);
+	assert_int_equal(f->out.start, sig + 3 * US);
+	assert_int_equal(f->out.exec, EXEC);
+	assert_false(f->out.flags & RTSUP_CF_HAS_LATENCY);
+	assert_int_equal(f->t.cycles, 4);
+}
+
+/* a relative sleep interrupted, re-entered with the remainder: the same wait */
+static void test_cycle_interrupted_relative_sleep(void **state)
+{
+	struct fx *f = *state;
+	const __u64 dur = 800 * US;
+	__u64 now = T0, sig;
+
+	f->relative = 1;
+	delim_sleep(f, now, now + dur, now + dur, now + dur + 3 * US, now + dur + 4 * US);
+	now += dur + 3 * US + EXEC;
+	enter(f, now, now + dur);
+	sig = now + 300 * US;
+	interrupted(f, sig);
+	/* the handler ran 40 us; the remainder is what was left at the signal */
+	assert_int_equal(enter(f, sig + 43 * US, sig + 43 * US + (now + dur - sig - 3 * US)), 0);
+	assert_int_equal(f->t.cycles, 1);
+	/* a full period again after an interruption is a new wait */
+	f->t.cs.flags |= RTSUP_CS_INTR;
+	f->t.cs.start = sig + 3 * US;
+	assert_true(cycle_delim_resumes(&f->t.cs, sig + 43 * US, f->t.cs.expected, 0));
+	assert_false(cycle_delim_resumes(&f->t.cs, sig + 43 * US, sig + 43 * US + dur, 0));
+}
+
+/*
+ * once a thread sleeps to absolute releases, a relative sleep inside its
+ * cycle (usleep) is no delimiter (issue 12 item 2); before, it is
+ */
+static void test_cycle_relative_sleep_inside_abs_loop(void **state)
+{
+	struct fx *f = *state;
+	const __u32 sleep_cls = RTSUP_SC_ABSSLEEP | RTSUP_SC_UNSAFE;
+
+	assert_false(cycle_rel_sleep_in_loop(&f->t, sleep_cls, 0));
+	steady(f, rel(0), 1, 1);
+	assert_true(cycle_rel_sleep_in_loop(&f->t, sleep_cls, 0));
+	assert_true(cycle_rel_sleep_in_loop(&f->t, RTSUP_SC_RELSLEEP, 0));
+	assert_false(cycle_rel_sleep_in_loop(&f->t, sleep_cls, 1));
+	assert_false(cycle_rel_sleep_in_loop(&f->t, RTSUP_SC_DELIM, 0));	/* epoll */
+}
+
+/*
+ * a relative loop that slept to an absolute release once (in start-up) is
+ * a relative loop again after CYC_REL_LOOP relative sleeps in a row
+ */
+static void test_cycle_relative_loop_after_one_abs_sleep(void **state)
+{
+	struct fx *f = *state;
+	const __u32 sleep_cls = RTSUP_SC_RELSLEEP | RTSUP_SC_UNSAFE;
+	int k;
+
+	steady(f, rel(0), 1, 1);
+	for (k = 1; k < CYC_REL_LOOP; k++)
+		assert_true(cycle_rel_sleep_in_loop(&f->t, sleep_cls, 0));
+	assert_false(cycle_rel_sleep_in_loop(&f->t, sleep_cls, 0));
+	assert_false(cycle_rel_sleep_in_loop(&f->t, sleep_cls, 0));
+	/* an absolute loop with two usleeps per cycle stays one */
+	fx_teardown(state);
+	fx_setup(state);
+	f = *state;
+	for (k = 1; k <= 3 * CYC_REL_LOOP; k++) {
+		steady(f, rel(k - 1), k, k);
+		assert_true(cycle_rel_sleep_in_loop(&f->t, sleep_cls, 0));
+		assert_true(cycle_rel_sleep_in_loop(&f->t, sleep_cls, 0));
+	}
+}
+
+/*
+ * start-up with a relative sleep, then an absolute loop: the start-up cycle
+ * (with its mmap) is dropped when the period settles, and its unsafe
+ * counts stay apart by key mode; the settled loop's cycles are all there
+ */
+static void test_cycle_startup_dropped_when_settled(void **state)
+{
+	struct fx *f = *state;
+	__u64 now = T0 - 300 * MS;
+	__u32 ev;
+	int k;
+
+	f->relative = 1;
+	delim_sleep(f, now, now + 100 * MS, now + 100 * MS, now + 100 * MS + 3 * US,
+		    now + 100 * MS + 4 * US);
+	assert_int_equal(sys(f, 1), CYC_EV_UNSAFE);	/* mmap of the start-up */
+	f->relative = 0;
+	assert_int_equal(cycle_sys_mode(&f->t.cs), RTSUP_MODE_DELIM);
+	/* the first absolute sleep closes the start-up cycle */
+	assert_int_equal(enter(f, rel(0) - 500 * US, rel(0)), CYC_EV_CLOSED);
+	assert_int_equal(f->t.cycles, 1);
+	assert_int_equal(f->t.unsafe[RTSUP_U_SYSCALL], 1);
+	wake_up(f, 0);
+	for (k = 1; k < CYC_SETTLE_RUNS; k++) {
+		assert_int_equal(enter(f, rel(k - 1) + LAT + EXEC, rel(k)), CYC_EV_CLOSED);
+		wake_up(f, k);
+	}
+	assert_int_equal(f->t.cycles, CYC_SETTLE_RUNS);
+	assert_int_equal(f->t.resets, 1);
+	/* the run is complete: start-up dropped, this cycle is the loop's first */
+	ev = enter(f, rel(k - 1) + LAT + EXEC, rel(k));
+	assert_int_equal(ev, CYC_EV_RESET | CYC_EV_CLOSED);
+	assert_int_equal(f->t.resets, 2);
+	assert_int_equal(f->t.cycles, 1);
+	assert_int_equal(f->t.unsafe[RTSUP_U_SYSCALL], 0);
+	assert_int_equal(f->out.exec, EXEC);
+	assert_int_equal(cycle_sys_mode(&f->t.cs), RTSUP_MODE_DELIM | RTSUP_MODE_SETTLED);
+	wake_up(f, k);
+	steady(f, rel(k) + LAT + EXEC, k + 1, k + 10);
+	assert_int_equal(f->t.cycles, 11);
+	assert_int_equal(f->t.resets, 2);	/* settled once */
+	assert_int_equal(f->t.m[RTSUP_M_PERIOD].min, MS);
+	assert_int_equal(f->t.m[RTSUP_M_EXEC].max, EXEC);
+}
+
+/*
+ * a loop that runs steady from its first sleep keeps all its cycles: the
+ * period settles without a reset (the steady tests count them exactly)
+ */
+static void test_cycle_steady_settles_without_reset(void **state)
+{
+	struct fx *f = *state;
+
+	steady(f, rel(0), 1, 8);
+	assert_true(f->t.cs.flags & RTSUP_CS_SETTLED);
+	assert_int_equal(f->t.resets, 1);
+	assert_int_equal(f->t.cycles, 7);
+	assert_int_equal(cycle_sys_mode(&f->t.cs), RTSUP_MODE_DELIM);
+	/* an overrun skips a release later: the distance changes, nothing resets */
+	steady(f, rel(8) + LAT + EXEC, 10, 14);
+	assert_int_equal(f->t.resets, 1);
+	assert_int_equal(f->t.cycles, 12);
+	assert_int_equal(cycle_sys_mode(&f->t.cs), RTSUP_MODE_DELIM);
+}
+
+/* warmup: start-up lasts at least that long, and is dropped then */
+static void test_cycle_warmup(void **state)
+{
+	struct fx *f = *state;
+
+	f->cfg.warmup = 10 * MS;
+	f->t.first_seen = rel(0);
+	steady(f, rel(0), 1, 10);
+	assert_false(f->t.cs.flags & RTSUP_CS_SETTLED);
+	assert_int_equal(f->t.cycles, 9);
+	/* the entry for release 11 is the first after rel(0) + 10 ms */
+	assert_int_equal(enter(f, rel(10) + LAT + EXEC, rel(11)), CYC_EV_RESET | CYC_EV_CLOSED);
+	assert_int_equal(f->t.cycles, 1);
+	assert_true(f->t.cs.flags & RTSUP_CS_SETTLED);
+
+	/* a relative loop settles at its first delimiter after the warmup */
+	fx_teardown(state);
+	fx_setup(state);
+	f = *state;
+	f->relative = 1;
+	f->cfg.warmup = 2 * MS;
+	f->t.first_seen = T0;
+	delim_sleep(f, T0, T0 + MS, T0 + MS, T0 + MS, T0 + MS + 1 * US);
+	assert_int_equal(enter(f, T0 + MS + EXEC, T0 + 2 * MS + EXEC), CYC_EV_CLOSED);
+	assert_false(f->t.cs.flags & RTSUP_CS_SETTLED);
+}
+
+/*
+ * a keyed delimiter (read, epoll, futex) ends a cycle only on the wait the
+ * thread slept in first; the same syscall on another fd is a plain call
+ * (issue 12 item 3)
+ */
+static void test_cycle_keyed_delimiter(void **state)
+{
+	struct fx *f = *state;
+	const __u64 timerfd = 7 | 1ULL << 63, sock = 9 | 1ULL << 63;
+
+	/* a read of the socket that does not sleep: a delimiter, nothing learned */
+	assert_true(cycle_delim_key(&f->t.cs, sock));
+	enter(f, T0, 0);
+	leave(f, T0 + 2 * US);
+	assert_int_equal(f->t.cs.delim_key, 0);
+	/* the read of the timerfd sleeps: that is the cycle's wait */
+	assert_true(cycle_delim_key(&f->t.cs, timerfd));
+	enter(f, T0 + 100 * US, 0);
+	assert_int_equal(sw_out(f, T0 + 101 * US, 1), 0);
+	assert_int_equal(f->t.cs.delim_key, timerfd);
+	cycle_wakeup(&f->t, T0 + MS);
+	sw_in(f, T0 + MS + 3 * US);
+	leave(f, T0 + MS + 4 * US);
+	/* reads of the socket inside the cycle are no boundary now */
+	assert_false(cycle_delim_key(&f->t.cs, sock));
+	assert_true(cycle_delim_key(&f->t.cs, timerfd));
+	assert_true(cycle_delim_key(&f->t.cs, 0));	/* clock_nanosleep: no key */
+}
+
 #define T(fn) cmocka_unit_test_setup_teardown(fn, fx_setup, fx_teardown)
 
 int main(void)
@@ -903,6 +1191,16 @@ int main(void)
 		T(test_cycle_unknown_expected_uses_wakeup),
 		T(test_cycle_preempt_in_delim_after_release),
 		T(test_cycle_steady_loop_reads_clock_once_per_switch_in),
+		T(test_cycle_interrupted_sleep_resumes),
+		T(test_cycle_stopped_sleep_restarts),
+		T(test_cycle_interrupted_sleep_abandoned),
+		T(test_cycle_interrupted_relative_sleep),
+		T(test_cycle_relative_sleep_inside_abs_loop),
+		T(test_cycle_relative_loop_after_one_abs_sleep),
+		T(test_cycle_startup_dropped_when_settled),
+		T(test_cycle_steady_settles_without_reset),
+		T(test_cycle_warmup),
+		T(test_cycle_keyed_delimiter),
 	};
 
 	return cmocka_run_group_tests_name("cycle", tests, NULL, NULL);

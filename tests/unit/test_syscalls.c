@@ -102,7 +102,10 @@ static void test_syscalls_sysclass_default(void **state)
 	assert_int_equal(cls(s, "nanosleep"),
 			 RTSUP_SC_DELIM | RTSUP_SC_RELSLEEP | RTSUP_SC_UNSAFE);
 	assert_int_equal(cls(s, "getpid"), 0);
-	assert_int_equal(cls(s, "epoll_pwait"), 0);
+	/* waits are keyed by what they wait on; restart resumes a sleep */
+	assert_int_equal(cls(s, "epoll_pwait"), RTSUP_SC_KEYED);
+	assert_int_equal(cls(s, "futex"), RTSUP_SC_KEYED | RTSUP_SC_OPKEY);
+	assert_int_equal(cls(s, "restart_syscall"), RTSUP_SC_RESTART);
 }
 
 /* delimiter epoll_wait: it is the delimiter, the sleeps become unsafe */
@@ -115,7 +118,7 @@ static void test_syscalls_sysclass_epoll(void **state)
 		skip();		/* arm64 and riscv have only epoll_pwait */
 	assert_int_equal(sysclass_build(s->table, RTSUP_MAX_SYSCALLS, delims, 1,
 					s->err, sizeof(s->err)), 0);
-	assert_int_equal(cls(s, "epoll_wait"), RTSUP_SC_DELIM);
+	assert_int_equal(cls(s, "epoll_wait"), RTSUP_SC_DELIM | RTSUP_SC_KEYED);
 	assert_true(cls(s, "clock_nanosleep") & RTSUP_SC_UNSAFE);
 	assert_false(cls(s, "clock_nanosleep") & RTSUP_SC_DELIM);
 	assert_true(cls(s, "nanosleep") & RTSUP_SC_UNSAFE);

@@ -1,0 +1,64 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/*
+ * timerfd_loop.c - a real control loop for test_real_programs.py: it waits
+ * for its 1 ms release by reading a timerfd, and inside every cycle reads
+ * a pipe it has just written to (a read that does not wait). Traced with
+ * --cycle-syscall naming read, only the timerfd read may end a cycle. It
+ * writes the cycles it ran (and the expirations it missed) as JSON.
+ *
+ * usage: timerfd_loop NAME PERIOD_US CYCLES OUT.json
+ */
+#define _GNU_SOURCE
+#include <sched.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+#include <unistd.h>
+#include <sys/prctl.h>
+#include <sys/timerfd.h>
+
+int main(int argc, char **argv)
+{
+	struct sched_param sp = { .sched_priority = 10 };
+	struct itimerspec its = { 0 };
+	uint64_t exp, missed = 0;
+	int tfd, p[2], cycles, i;
+	long period_ns;
+	char c = 'x';
+	FILE *f;
+
+	if (argc != 5) {
+		fprintf(stderr, "usage: timerfd_loop NAME PERIOD_US CYCLES OUT.json\n");
+		return 2;
+	}
+	prctl(PR_SET_NAME, argv[1]);
+	period_ns = atol(argv[2]) * 1000;
+	cycles = atoi(argv[3]);
+	if (sched_setscheduler(0, SCHED_FIFO, &sp))
+		perror("timerfd_loop: SCHED_FIFO (running SCHED_OTHER)");
+	tfd = timerfd_create(CLOCK_MONOTONIC, 0);
+	if (tfd < 0 || pipe(p))
+		return 1;
+	its.it_value.tv_nsec = period_ns;
+	its.it_interval.tv_nsec = period_ns;
+	if (timerfd_settime(tfd, 0, &its, NULL))
+		return 1;
+	if (read(tfd, &exp, sizeof(exp)) != sizeof(exp))	/* release of cycle 1 */
+		return 1;
+	for (i = 1; i <= cycles; i++) {
+		/* the cycle's work: a message through a pipe, read at once */
+		if (write(p[1], &c, 1) != 1 || read(p[0], &c, 1) != 1)
+			return 1;
+		if (read(tfd, &exp, sizeof(exp)) != sizeof(exp))
+			return 1;
+		missed += exp - 1;
+	}
+	f = fopen(argv[4], "w");
+	if (!f)
+		return 1;
+	fprintf(f, "{\"cycles\": %d, \"tid\": %d, \"missed_expirations\": %llu}\n", cycles,
+		gettid(), (unsigned long long)missed);
+	fclose(f);
+	return 0;
+}
