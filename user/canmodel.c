@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "canmodel.h"
+#include "since.h"
 
 /* key_cmp - order of the entries */
 static int key_cmp(const struct rtsup_can_key *a, const struct rtsup_can_key *b)
@@ -151,7 +152,7 @@ static void learn(struct can_entry *e, const struct can_thresholds *th, __u64 no
 {
 	if (e->learned || !e->cur.frames || e->cur.gap.count < 3)
 		return;
-	if (now - e->cur.first < th->learn_s * 1e9)
+	if (ns_since(now, e->cur.first) < th->learn_s * 1e9)
 		return;
 	e->learned = e->cur.gap.sum / e->cur.gap.count;
 }
@@ -163,14 +164,14 @@ static void check_responding(struct status *st, const struct can_thresholds *th,
 	double k;
 	__u64 j;
 
-	if (period && last && now > last) {
-		k = (double)(now - last) / period;
+	if (period && last) {
+		k = (double)ns_since(now, last) / period;
 		if (th->error_periods && k >= th->error_periods)
 			status_add(st, LEVEL_ERROR, "not responding: no frame for %.1f ms (%.0f periods)",
-				   (now - last) / 1e6, k);
+				   ns_since(now, last) / 1e6, k);
 		else if (th->warn_periods && k >= th->warn_periods)
 			status_add(st, LEVEL_WARN, "not responding: no frame for %.1f ms (%.0f periods)",
-				   (now - last) / 1e6, k);
+				   ns_since(now, last) / 1e6, k);
 	}
 	if (!period || !gap->count || (!th->jitter_warn_ns && !th->jitter_error_ns))
 		return;
@@ -260,11 +261,10 @@ static void canopen_update(struct can_model *m, const struct can_entry *e)
 static void check_canopen(struct canopen_node *co, const struct can_config *cc, __u64 now)
 {
 	status_reset(&co->st);
-	/* a heartbeat stamped after 'now' (read after it) is fresh, not 584 years old */
-	if (co->heartbeat_last && cc->heartbeat_timeout_ns && now > co->heartbeat_last &&
-	    now - co->heartbeat_last > cc->heartbeat_timeout_ns)
+	if (co->heartbeat_last && cc->heartbeat_timeout_ns &&
+	    ns_since(now, co->heartbeat_last) > cc->heartbeat_timeout_ns)
 		status_add(&co->st, LEVEL_ERROR, "no heartbeat for %.0f ms",
-			   (now - co->heartbeat_last) / 1e6);
+			   ns_since(now, co->heartbeat_last) / 1e6);
 	else if (co->heartbeat_last && co->nmt_state != 0x05)
 		status_add(&co->st, LEVEL_WARN, "NMT state %s", can_nmt_name(co->nmt_state));
 	if (co->emcy_frames > co->emcy_prev) {
@@ -391,9 +391,9 @@ void can_model_judge(struct can_model *m, const struct config *cfg, __u64 now,
 		old = v->st;
 		status_reset(&v->st);
 		if (!v->frames && n->th.init_timeout_s &&
-		    now - m->start_ns >= n->th.init_timeout_s * 1e9)
+		    ns_since(now, m->start_ns) >= n->th.init_timeout_s * 1e9)
 			status_add(&v->st, LEVEL_WARN, "not initialized: never seen in %.1f s",
-				   (now - m->start_ns) / 1e9);
+				   ns_since(now, m->start_ns) / 1e9);
 		check_responding(&v->st, &n->th, v->last, v->period, &v->gap, now);
 		snprintf(comp, sizeof(comp), "node:%s", n->name);
 		judge(ctx, comp, &old, &v->st, &v->worst);

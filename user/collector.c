@@ -11,6 +11,7 @@
 #include <bpf/bpf.h>
 #include <bpf/libbpf.h>
 #include "collector.h"
+#include "liveness.h"
 #include "cycle.h"
 #include "targets.h"
 #include "syscalls.h"
@@ -191,37 +192,54 @@ static void read_unsafe_sys(struct collector *c)
 	}
 }
 
-/* read_cgroup - the thread's cgroup v2 path from /proc/<tid>/cgroup */
-static void read_cgroup(struct thread_model *tm)
+/* read_cgroup - a thread's cgroup v2 path from /proc/<tid>/cgroup, "" if unknown */
+static void read_cgroup(__u32 tgid, __u32 tid, char *buf, size_t len)
 {
 	char path[64], line[512];
 	FILE *f;
 
-	snprintf(path, sizeof(path), "/proc/%u/task/%u/cgroup", tm->tgid, tm->tid);
+	buf[0] = '\0';
+	snprintf(path, sizeof(path), "/proc/%u/task/%u/cgroup", tgid, tid);
 	f = fopen(path, "re");
 	if (!f)
 		return;
 	while (fgets(line, sizeof(line), f)) {
 		if (!strncmp(line, "0::", 3)) {
 			line[strcspn(line, "\n")] = '\0';
-			snprintf(tm->cgroup, sizeof(tm->cgroup), "%.255s", line + 3);
+			snprintf(buf, len, "%.255s", line + 3);
 			break;
 		}
 	}
 	fclose(f);
 }
 
-/* refresh_identity - scheduling attributes of a live thread */
+/*
+ * rematch - the rules match on the thread's name, its process's name and
+ * its cgroup: when one changes (PR_SET_NAME, exec, a move to another
+ * cgroup) the rules are matched again and the kernel gets the new settings
+ */
+static void rematch(struct thread_model *tm)
+{
+	tm->rule_gen = 0;
+	tm->cfg_gen = 0;
+}
+
+/* refresh_identity - names, cgroup and scheduling attributes of a live thread */
 static void refresh_identity(struct thread_model *tm)
 {
+	char pcomm[RTSUP_COMM_LEN], cg[sizeof(tm->cgroup)];
 	struct sched_param sp;
 
-	if (!tm->pcomm[0]) {
-		/* once: what the rules match on */
-		if (thread_comm(tm->tgid, tm->tgid, tm->pcomm, sizeof(tm->pcomm)))
-			snprintf(tm->pcomm, sizeof(tm->pcomm), "%s", tm->comm);
-		comm_sanitize(tm->pcomm, sizeof(tm->pcomm));
-		read_cgroup(tm);
+	if (!tm->pcomm[0])
+		tm->kthread = thread_is_kernel(tm->tgid, tm->tid);
+	if (thread_comm(tm->tgid, tm->tgid, pcomm, sizeof(pcomm)))
+		snprintf(pcomm, sizeof(pcomm), "%s", tm->comm);
+	comm_sanitize(pcomm, sizeof(pcomm));
+	read_cgroup(tm->tgid, tm->tid, cg, sizeof(cg));
+	if (strcmp(pcomm, tm->pcomm) || strcmp(cg, tm->cgroup)) {
+		memcpy(tm->pcomm, pcomm, sizeof(pcomm));
+		memcpy(tm->cgroup, cg, sizeof(cg));
+		rematch(tm);
 	}
 
 	/*
@@ -257,6 +275,7 @@ static bool thread_gone(__u32 tgid, __u32 tid)
 static int take(struct collector *c, __u32 tid, const struct rtsup_thread *t)
 {
 	struct thread_model *tm = model_get(&c->model, tid, true);
+	char comm[RTSUP_COMM_LEN];
 
 	if (!tm)
 		return -ENOMEM;
@@ -271,10 +290,16 @@ static int take(struct collector *c, __u32 tid, const struct rtsup_thread *t)
 	}
 	model_set(tm, t, c->bank);
 	tm->tgid = t->tgid;
-	memcpy(tm->comm, t->comm, RTSUP_COMM_LEN);
-	tm->comm[RTSUP_COMM_LEN - 1] = '\0';
-	comm_sanitize(tm->comm, RTSUP_COMM_LEN);
-	tm->alive = !t->exited && !(idle_in_window(tm) && thread_gone(t->tgid, tid));
+	memcpy(comm, t->comm, RTSUP_COMM_LEN);
+	comm[RTSUP_COMM_LEN - 1] = '\0';
+	comm_sanitize(comm, RTSUP_COMM_LEN);
+	if (strcmp(comm, tm->comm)) {
+		memcpy(tm->comm, comm, RTSUP_COMM_LEN);
+		rematch(tm);
+	}
+	tm->seen = true;
+	tm->alive = !thread_dead(false, true, t->exited) &&
+		    !(idle_in_window(tm) && thread_gone(t->tgid, tid));
 	if (tm->alive)
 		refresh_identity(tm);
 	else
@@ -291,12 +316,14 @@ static int read_one_by_one(struct collector *c, int fd)
 		key = next;
 		prev = &key;
 		c->map_entries++;
+		/* deleted since its key was read: gone, like a key never read */
 		if (bpf_map_lookup_elem(fd, &key, c->batch_vals))
 			continue;
 		if (take(c, key, c->batch_vals))
 			return -ENOMEM;
 	}
-	return 0;
+	/* ENOENT: past the last key; anything else: the read stopped half-way */
+	return errno == ENOENT ? 0 : -errno;
 }
 
 #ifndef ENOTSUPP
@@ -371,12 +398,16 @@ int collector_sample(struct collector *c)
 	collector_poll(c, 0);
 	/* a thread not in the map any more (reaped) had an empty interval */
 	for (i = 0; i < c->model.n; i++) {
-		c->model.t[i].alive = false;
+		c->model.t[i].seen = false;
 		model_idle(&c->model.t[i]);
 	}
 	err = read_threads(c);
 	if (err)
 		fprintf(stderr, "rtsup-trace: reading the thread map: %s\n", strerror(-err));
+	/* an entry not read is a dead thread only if the whole map was read */
+	for (i = 0; i < c->model.n; i++)
+		if (!c->model.t[i].seen && thread_dead(!err, false, false))
+			c->model.t[i].alive = false;
 	read_unsafe_sys(c);
 	read_counters(c);
 	return err;
