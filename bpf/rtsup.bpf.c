@@ -92,6 +92,18 @@ struct {
 	__type(value, __u32);
 } tgids SEC(".maps");
 
+/*
+ * Targets the full thread map could not hold, tid -> tgid: each is counted
+ * once in RTSUP_C_MAP_FULL, not at each of its switch-ins. Userspace drops
+ * the entries of threads that are gone, so a reused tid counts again.
+ */
+struct {
+	__uint(type, BPF_MAP_TYPE_HASH);
+	__uint(max_entries, RTSUP_UNTRACKED_MAX);
+	__type(key, __u32);
+	__type(value, __u32);
+} untracked SEC(".maps");
+
 struct {
 	__uint(type, BPF_MAP_TYPE_ARRAY);
 	__uint(max_entries, RTSUP_MAX_SYSCALLS);
@@ -319,7 +331,7 @@ static __always_inline int comm_match(const char *comm)
 static __always_inline struct rtsup_thread *add_thread(struct task_struct *task,
 							__u64 now)
 {
-	__u32 tid = BPF_CORE_READ(task, pid), zero = 0;
+	__u32 tid = BPF_CORE_READ(task, pid), zero = 0, tgid;
 	struct rtsup_thread *tmpl, *t;
 	long err;
 
@@ -331,7 +343,10 @@ static __always_inline struct rtsup_thread *add_thread(struct task_struct *task,
 	tid_bit_set(wakemask, tid);
 	err = bpf_map_update_elem(&threads, &tid, tmpl, BPF_NOEXIST);
 	if (err && err != -EEXIST) {
-		count(RTSUP_C_MAP_FULL);
+		/* a thread, once: --rt tries again at every switch-in */
+		tgid = BPF_CORE_READ(task, tgid);
+		if (!bpf_map_update_elem(&untracked, &tid, &tgid, BPF_NOEXIST))
+			count(RTSUP_C_MAP_FULL);
 		return NULL;
 	}
 	t = bpf_map_lookup_elem(&threads, &tid);

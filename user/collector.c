@@ -101,10 +101,12 @@ static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, bool 
 	/* the kernel may have added it since attach: keep its entry */
 	if (bpf_map_update_elem(bpf_map__fd(c->skel->maps.threads), &key, t, BPF_NOEXIST) &&
 	    errno != EEXIST) {
-		if (errno == E2BIG)
-			c->counters[RTSUP_C_MAP_FULL]++;
-		else
+		if (errno != E2BIG)
 			err = -errno;
+		/* counted once, by whichever side notes it first (rtsup.bpf.c) */
+		else if (!bpf_map_update_elem(bpf_map__fd(c->skel->maps.untracked), &key, &k,
+					      BPF_NOEXIST))
+			c->untracked_scan++;
 	}
 	free(t);
 	return err;
@@ -161,14 +163,14 @@ static void read_counters(struct collector *c)
 	int i;
 
 	for (k = 0; k < RTSUP_C_NR; k++) {
-		__u64 sum = k == RTSUP_C_MAP_FULL ? c->counters[k] : 0;
+		/* the start-up scan's misses are threads the kernel side never counted */
+		__u64 sum = k == RTSUP_C_MAP_FULL ? c->untracked_scan : 0;
 
-		if (ncpu > 0 && !bpf_map_lookup_elem(fd, &k, vals))
-			for (i = 0; i < ncpu; i++)
-				sum += vals[i];
-		/* user-side misses of the start-up scan stay in MAP_FULL */
-		if (k != RTSUP_C_MAP_FULL || sum > c->counters[k])
-			c->counters[k] = sum;
+		if (ncpu <= 0 || bpf_map_lookup_elem(fd, &k, vals))
+			continue;	/* keep the last sum: counters never go back */
+		for (i = 0; i < ncpu; i++)
+			sum += vals[i];
+		c->counters[k] = sum;
 	}
 }
 
@@ -429,6 +431,22 @@ static void forget_sys(struct collector *c, __u32 tid)
 	}
 }
 
+/* forget_untracked - threads not tracked that are gone: their tid may come back */
+static void forget_untracked(struct collector *c)
+{
+	int fd = bpf_map__fd(c->skel->maps.untracked);
+	__u32 key, next, tgid, *prev = NULL;
+
+	while (!bpf_map_get_next_key(fd, prev, &next)) {
+		key = next;
+		if (!bpf_map_lookup_elem(fd, &key, &tgid) && thread_gone(tgid, key)) {
+			bpf_map_delete_elem(fd, &key);
+			continue;	/* restart after the deleted key */
+		}
+		prev = &key;
+	}
+}
+
 void collector_reap(struct collector *c)
 {
 	int fd = bpf_map__fd(c->skel->maps.threads), tfd = bpf_map__fd(c->skel->maps.tgids);
@@ -449,6 +467,7 @@ void collector_reap(struct collector *c)
 		forget_sys(c, tm->tid);
 	}
 	model_prune_dead(&c->model, MODEL_KEEP_DEAD);
+	forget_untracked(c);
 	/* processes that are gone must not match a reused pid */
 	while (!bpf_map_get_next_key(tfd, prev, &next)) {
 		key = next;

@@ -26,6 +26,7 @@ struct collector {
 	struct ring_buffer *rb;
 	__u32 bank;			/* interval bank of the last sample */
 	__u64 counters[RTSUP_C_NR];	/* the kernel side's own counters */
+	__u64 untracked_scan;		/* of them, found by the start-up scan (userspace) */
 	struct rtsup_event events[COLLECTOR_MAX_EVENTS];
 	int nevents;
 	__u64 events_over;		/* events beyond COLLECTOR_MAX_EVENTS */
