@@ -21,6 +21,7 @@
 #include "loader.h"
 #include "options.h"
 #include "output.h"
+#include "pidns.h"
 #include "replay.h"
 #include "robot.h"
 #include "sinks.h"
@@ -249,6 +250,11 @@ static int run_live(struct options *o, struct supervisor *s)
 	enum level worst = LEVEL_OK;
 	bool child_done = false;
 
+	if (!pidns_is_initial()) {
+		output_error(o, "PID namespace: rtsup-trace runs inside a container's PID "
+			     "namespace, where its tids are not the kernel's; run it on the host");
+		return 1;
+	}
 	if (robot_prepare(&rb, o, s) || check_targets(o) || (o->can && can_resolve(o)))
 		return 1;
 	o->canopen = s->cfg.can.canopen;
