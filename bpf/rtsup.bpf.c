@@ -640,12 +640,34 @@ static __always_inline int on_fork(struct task_struct *parent, struct task_struc
 	return 0;
 }
 
-/* on_exec - a process that now carries a --comm name becomes a target */
+/*
+ * exec_reset - a target thread runs a new program: the cycle that was
+ * running is not the new program's, and its start-up is no loop. Its cycle
+ * state and statistics start again, as for a new thread (resets tells
+ * userspace), its tid and first_seen stay.
+ */
+static __always_inline void exec_reset(struct rtsup_thread *t)
+{
+	settle(t, held_switch_in());
+	zero_mem(&t->cs, sizeof(t->cs));
+	t->cs.last_cpu = -1;
+	t->last_cycle = 0;
+	cycle_reset_stats(t);
+	note_wake(t);
+}
+
+/*
+ * on_exec - a target's cycles start again; a process that now carries a
+ * --comm name becomes a target
+ */
 static __always_inline int on_exec(struct task_struct *p)
 {
+	__u32 tid = BPF_CORE_READ(p, pid), tgid, one = 1;
+	struct rtsup_thread *t = maybe_target(tid) ? bpf_map_lookup_elem(&threads, &tid) : NULL;
 	char comm[RTSUP_COMM_LEN];
-	__u32 tgid, one = 1;
 
+	if (t && !t->exited)
+		exec_reset(t);
 	if (!cfg_ncomm)
 		return 0;
 	bpf_probe_read_kernel_str(comm, sizeof(comm), &p->comm);
