@@ -350,8 +350,18 @@ static __always_inline struct rtsup_thread *add_thread(struct task_struct *task,
 		return NULL;
 	}
 	t = bpf_map_lookup_elem(&threads, &tid);
-	if (!t || err)
-		return t;
+	if (!t)
+		return NULL;
+	if (err) {
+		/*
+		 * Every caller has a live task: an entry of a thread that exited
+		 * (not reaped yet) belongs to a new thread that reuses the tid.
+		 * It starts as new, with its own first_seen (userspace's check).
+		 */
+		if (!t->exited)
+			return t;
+		zero_mem(t, sizeof(*t));
+	}
 	cycle_thread_init(t, tid, BPF_CORE_READ(task, tgid), now);
 	bpf_probe_read_kernel_str(t->comm, sizeof(t->comm), &task->comm);
 	count(RTSUP_C_NEW);

@@ -431,6 +431,15 @@ static void forget_sys(struct collector *c, __u32 tid)
 	}
 }
 
+/* same_thread - does the kernel entry of tm's tid still belong to tm's thread? */
+static bool same_thread(struct collector *c, int fd, const struct thread_model *tm)
+{
+	/* batch_vals: a buffer of one entry at least, unused between reads */
+	if (bpf_map_lookup_elem(fd, &tm->tid, c->batch_vals))
+		return true;	/* gone already: deleting it again does no harm */
+	return c->batch_vals->first_seen == tm->cur.first_seen;
+}
+
 /* forget_untracked - threads not tracked that are gone: their tid may come back */
 static void forget_untracked(struct collector *c)
 {
@@ -462,6 +471,8 @@ void collector_reap(struct collector *c)
 			continue;
 		/* reported once: the kernel entry is freed, the model keeps the numbers */
 		tm->reported_exit = true;
+		if (!same_thread(c, fd, tm))
+			continue;	/* a new thread has the tid already (add_thread) */
 		bpf_map_delete_elem(fd, &tm->tid);
 		bpf_map_delete_elem(bpf_map__fd(c->skel->maps.thread_cfg), &tm->tid);
 		forget_sys(c, tm->tid);

@@ -579,18 +579,21 @@ def test_pid_namespace_refused(mount_proc):
 
 # A loop of N sleeps to absolute 2 ms deadlines (Python 3.11's time.sleep is a
 # clock_nanosleep(TIMER_ABSTIME)), then exec of the same program with the next
-# count, or PR_SET_NAME to a new name halfway when asked.
+# count; or, halfway, PR_SET_NAME to a new name or a move to another cgroup.
 LOOP_PY = r'''
 import ctypes, os, sys, time
 n, rest = int(sys.argv[1]), sys.argv[2:]
-rename = rest[1] if rest[:1] == ["--rename"] else None
+what, arg = rest[:2] if rest[:1] in (["--rename"], ["--move"]) else (None, None)
 t = time.monotonic()
 for i in range(n):
-    if rename and i == n // 2:
-        ctypes.CDLL(None).prctl(15, rename.encode(), 0, 0, 0)  # PR_SET_NAME
+    if what == "--rename" and i == n // 2:
+        ctypes.CDLL(None).prctl(15, arg.encode(), 0, 0, 0)  # PR_SET_NAME
+    if what == "--move" and i == n // 2:
+        with open(os.path.join(arg, "cgroup.procs"), "w") as f:
+            f.write(str(os.getpid()))
     t += 0.002
     time.sleep(max(0.0, t - time.monotonic()))
-if rest and not rename:
+if rest and not what:
     os.execv(sys.executable, [sys.executable, sys.argv[0]] + rest)
 '''
 
@@ -632,3 +635,69 @@ def test_rename_matches_the_rules_again(tmp_path):
                                              "--rename", new], ["--config", str(cfg), "-i", "500ms"])
     [t] = [t for t in summary["threads"] if t["comm"] == new]
     assert t.get("rule") == "renamed", (t.get("rule"), err)
+
+
+@pytest.mark.skipif(cgroup2_root() is None, reason="no cgroup v2 hierarchy mounted")
+def test_cgroup_move_matches_the_rules_again(tmp_path):
+    """A process moved to another cgroup that a rule matches: the rule
+    applies from then on (issue 12, item 6)."""
+    prog = tmp_path / "loop.py"
+    prog.write_text(LOOP_PY)
+    name = "rtsup-test-mv-%d" % os.getpid()
+    cg = os.path.join(cgroup2_root(), name)
+    os.mkdir(cg)
+    cfg = tmp_path / "rules.yaml"
+    cfg.write_text("rules:\n  - name: moved\n    match: {cgroup: /%s}\n    period: 2ms\n" % name)
+    try:
+        summary, err = run_cmd_traced(tmp_path, ["/usr/bin/python3", str(prog), "1500",
+                                                 "--move", cg],
+                                      ["--config", str(cfg), "-i", "500ms"])
+    finally:
+        os.rmdir(cg)
+    [t] = [t for t in summary["threads"] if t["mode"] == "delimiter"]
+    assert t.get("rule") == "moved", (t.get("rule"), err)
+
+
+def spawn_with_pid(pid, cmd, tries=50):
+    """Start cmd as process 'pid' (free again) through ns_last_pid; None when
+    other programs on this machine keep taking the pid first."""
+    for _ in range(tries):
+        with open("/proc/sys/kernel/ns_last_pid", "w") as f:
+            f.write(str(pid - 1))
+        p = subprocess.Popen(cmd)
+        if p.pid == pid:
+            return p
+        p.kill()
+        p.wait()
+    return None
+
+
+def test_reused_tid_is_a_new_thread(tmp_path):
+    """A process that exits and a new one that gets the same pid before the
+    interval ends: the new one is tracked as a new thread, not as the dead
+    one's entry (issue 12, item 6)."""
+    prog = tmp_path / "loop.py"
+    prog.write_text(LOOP_PY)
+    n1, n2 = 1500, 600
+    first = subprocess.Popen(["/usr/bin/python3", str(prog), str(n1)])
+    # one long interval: the dead thread's entry is not freed before the reuse
+    tr = Trace(["--pid", str(first.pid), "-i", "60s"])
+    second = None
+    try:
+        assert first.poll() is None, "the first program ended before the tracer started"
+        assert first.wait(timeout=60) == 0
+        second = spawn_with_pid(first.pid, ["/usr/bin/python3", str(prog), str(n2)])
+        if second is None:
+            pytest.skip("pid %d kept being taken by other programs" % first.pid)
+        assert second.wait(timeout=60) == 0
+        time.sleep(0.2)
+        _, summary, err = tr.stop()
+    finally:
+        for p in (first, second):
+            if p and p.poll() is None:
+                p.kill()
+        if tr.proc.poll() is None:
+            tr.proc.kill()
+    t = threads_by_tid(summary)[first.pid]
+    # the second program's cycles (its first sleep opens the first, its exit cuts the last)
+    assert n2 - 2 <= t["total"]["cycles"] <= n2, (t["total"]["cycles"], err)
