@@ -16,7 +16,7 @@
 #define RTSUP_MAX_COMMS		8	/* --comm names matched in the kernel */
 #define RTSUP_MAX_SYSCALLS	1024	/* size of the syscall class table */
 #define RTSUP_DEFAULT_THREADS	4096	/* default capacity of the thread map */
-#define RTSUP_UNTRACKED_MAX	16384	/* untracked threads counted at once (map untracked) */
+#define RTSUP_UNTRACKED_MAX	16384	/* untracked threads counted at once */
 /*
  * "tidmask": one bit per thread id (PID_MAX_LIMIT is 2^22) that may have an
  * entry in the thread map; set before the entry is added, never cleared.

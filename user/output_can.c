@@ -234,7 +234,8 @@ json_t *can_json(const struct can_model *m, const struct config *cfg, __u64 now,
 			"group", cfg->can.nodes[i].group, "frames",
 			(json_int_t)(total ? n->frames : n->frames_win), "period_ns",
 			(json_int_t)n->period, "gap_ns", json_gap(total ? &n->gap_life : &n->gap),
-			"last_ago_ms", n->last ? json_real(ns_since(now, n->last) / 1e6) : json_null(),
+			"last_ago_ms",
+			n->last ? json_real(ns_since(now, n->last) / 1e6) : json_null(),
 			"status", json_st(&n->st, n->worst)));
 	}
 	for (i = 0; i < m->ngroups; i++)

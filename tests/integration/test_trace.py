@@ -494,8 +494,10 @@ def test_rt_check_idle_host_exits_0(tmp_path):
         # its summary says what it saw
         assert "tracing with" in tr.stderr.readline()
         cycles = int(25e6 / PERIOD_US)
-        lg = Loadgen(tmp_path, ["--name", prefix, "-n", "2", "-c", str(cycles), "-w", "100"],
-                     hold=False)
+        # well-behaved: each thread pinned to a CPU of its own, where there are two
+        cpus = ",".join(str(c) for c in sorted(os.sched_getaffinity(0))[:2])
+        lg = Loadgen(tmp_path, ["--name", prefix, "-n", "2", "-c", str(cycles), "-w", "100",
+                                "-C", cpus], hold=False)
         out, err = tr.communicate(timeout=120)
         watch.stop()
         truth = lg.summary()
