@@ -676,7 +676,13 @@ static __always_inline int on_exec(struct task_struct *p)
 	struct rtsup_thread *t = maybe_target(tid) ? bpf_map_lookup_elem(&threads, &tid) : NULL;
 	char comm[RTSUP_COMM_LEN];
 
-	if (t && !t->exited)
+	/*
+	 * A thread other than the leader that execs takes the leader's tid
+	 * (de_thread): the leader's entry, exited, is this thread's now
+	 */
+	if (t && t->exited)
+		add_thread(p, bpf_ktime_get_ns());
+	else if (t)
 		exec_reset(t);
 	if (!cfg_ncomm)
 		return 0;

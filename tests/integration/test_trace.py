@@ -714,3 +714,34 @@ def test_reused_tid_is_a_new_thread(tmp_path):
     t = threads_by_tid(summary)[first.pid]
     # the second program's cycles (its first sleep opens the first, its exit cuts the last)
     assert n2 - 2 <= t["total"]["cycles"] <= n2, (t["total"]["cycles"], err)
+
+
+# A second thread (not the leader) runs the loop of LOOP_PY, then execs it:
+# the kernel gives it the leader's tid (de_thread), the leader exits.
+EXEC_FROM_THREAD_PY = r'''
+import os, sys, threading, time
+def run():
+    t = time.monotonic()
+    for i in range(int(sys.argv[2])):
+        t += 0.002
+        time.sleep(max(0.0, t - time.monotonic()))
+    os.execv(sys.executable, [sys.executable, sys.argv[1], sys.argv[3]])
+threading.Thread(target=run).start()
+threading.Event().wait()
+'''
+
+
+def test_exec_from_a_thread_takes_the_leaders_tid(tmp_path):
+    """A thread that is not the leader execs: it goes on with the leader's tid,
+    whose entry says 'exited'; the new program is counted (issue 12, item 6)."""
+    loop = tmp_path / "loop.py"
+    loop.write_text(LOOP_PY)
+    prog = tmp_path / "exec_from_thread.py"
+    prog.write_text(EXEC_FROM_THREAD_PY)
+    n1, n2 = 300, 400
+    summary, err = run_cmd_traced(tmp_path, ["/usr/bin/python3", str(prog), str(loop),
+                                             str(n1), str(n2)])
+    leader = [t for t in summary["threads"] if t["tid"] == t["tgid"]]
+    assert len(leader) == 1, summary["threads"]
+    tot = leader[0]["total"]
+    assert n2 - 2 <= tot["cycles"] <= n2, (tot["cycles"], err)
