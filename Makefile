@@ -124,6 +124,7 @@ UNIT_LIBS_test_perfetto := -ljansson
 UNIT_DEPS_test_checks := user/checks.c user/model.c user/status.c
 UNIT_DEPS_test_status := user/status.c
 UNIT_DEPS_test_targets := user/targets.c
+UNIT_DEPS_test_pidns := user/pidns.c
 UNIT_DEPS_test_candump := user/candump.c
 UNIT_DEPS_test_prom := user/prom.c user/model.c user/status.c user/syscalls.c
 UNIT_DEPS_test_service := user/service.c user/status.c

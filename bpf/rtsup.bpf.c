@@ -93,6 +93,18 @@ struct {
 	__type(value, __u32);
 } tgids SEC(".maps");
 
+/*
+ * Targets the full thread map could not hold, tid -> tgid: each is counted
+ * once in RTSUP_C_MAP_FULL, not at each of its switch-ins. Userspace drops
+ * the entries of threads that are gone, so a reused tid counts again.
+ */
+struct {
+	__uint(type, BPF_MAP_TYPE_HASH);
+	__uint(max_entries, RTSUP_UNTRACKED_MAX);
+	__type(key, __u32);
+	__type(value, __u32);
+} untracked SEC(".maps");
+
 struct {
 	__uint(type, BPF_MAP_TYPE_ARRAY);
 	__uint(max_entries, RTSUP_MAX_SYSCALLS);
@@ -321,7 +333,7 @@ static __always_inline int comm_match(const char *comm)
 static __always_inline struct rtsup_thread *add_thread(struct task_struct *task,
 							__u64 now)
 {
-	__u32 tid = BPF_CORE_READ(task, pid), zero = 0;
+	__u32 tid = BPF_CORE_READ(task, pid), zero = 0, tgid;
 	struct rtsup_thread *tmpl, *t;
 	long err;
 
@@ -333,12 +345,25 @@ static __always_inline struct rtsup_thread *add_thread(struct task_struct *task,
 	tid_bit_set(wakemask, tid);
 	err = bpf_map_update_elem(&threads, &tid, tmpl, BPF_NOEXIST);
 	if (err && err != -EEXIST) {
-		count(RTSUP_C_MAP_FULL);
+		/* a thread, once: --rt tries again at every switch-in */
+		tgid = BPF_CORE_READ(task, tgid);
+		if (!bpf_map_update_elem(&untracked, &tid, &tgid, BPF_NOEXIST))
+			count(RTSUP_C_MAP_FULL);
 		return NULL;
 	}
 	t = bpf_map_lookup_elem(&threads, &tid);
-	if (!t || err)
-		return t;
+	if (!t)
+		return NULL;
+	if (err) {
+		/*
+		 * Every caller has a live task: an entry of a thread that exited
+		 * (not reaped yet) belongs to a new thread that reuses the tid.
+		 * It starts as new, with its own first_seen (userspace's check).
+		 */
+		if (!t->exited)
+			return t;
+		zero_mem(t, sizeof(*t));
+	}
 	cycle_thread_init(t, tid, BPF_CORE_READ(task, tgid), now);
 	bpf_probe_read_kernel_str(t->comm, sizeof(t->comm), &task->comm);
 	count(RTSUP_C_NEW);
@@ -676,12 +701,40 @@ static __always_inline int on_fork(struct task_struct *parent, struct task_struc
 	return 0;
 }
 
-/* on_exec - a process that now carries a --comm name becomes a target */
+/*
+ * exec_reset - a target thread runs a new program: the cycle that was
+ * running is not the new program's, and its start-up is no loop. Its cycle
+ * state and statistics start again, as for a new thread (resets tells
+ * userspace), its tid and first_seen stay.
+ */
+static __always_inline void exec_reset(struct rtsup_thread *t)
+{
+	settle(t, held_switch_in());
+	zero_mem(&t->cs, sizeof(t->cs));
+	t->cs.last_cpu = -1;
+	t->last_cycle = 0;
+	cycle_reset_stats(t);
+	note_wake(t);
+}
+
+/*
+ * on_exec - a target's cycles start again; a process that now carries a
+ * --comm name becomes a target
+ */
 static __always_inline int on_exec(struct task_struct *p)
 {
+	__u32 tid = BPF_CORE_READ(p, pid), tgid, one = 1;
+	struct rtsup_thread *t = maybe_target(tid) ? bpf_map_lookup_elem(&threads, &tid) : NULL;
 	char comm[RTSUP_COMM_LEN];
-	__u32 tgid, one = 1;
 
+	/*
+	 * A thread other than the leader that execs takes the leader's tid
+	 * (de_thread): the leader's entry, exited, is this thread's now
+	 */
+	if (t && t->exited)
+		add_thread(p, bpf_ktime_get_ns());
+	else if (t)
+		exec_reset(t);
 	if (!cfg_ncomm)
 		return 0;
 	bpf_probe_read_kernel_str(comm, sizeof(comm), &p->comm);

@@ -16,6 +16,7 @@
 #define RTSUP_MAX_COMMS		8	/* --comm names matched in the kernel */
 #define RTSUP_MAX_SYSCALLS	1024	/* size of the syscall class table */
 #define RTSUP_DEFAULT_THREADS	4096	/* default capacity of the thread map */
+#define RTSUP_UNTRACKED_MAX	16384	/* untracked threads counted at once */
 /*
  * "tidmask": one bit per thread id (PID_MAX_LIMIT is 2^22) that may have an
  * entry in the thread map; set before the entry is added, never cleared.
@@ -276,7 +277,7 @@ struct rtsup_event {
 /* Counters kept by the BPF side about itself (array "counters"). */
 enum rtsup_counter {
 	RTSUP_C_RB_DROPS,	/* ring buffer full */
-	RTSUP_C_MAP_FULL,	/* threads we could not track */
+	RTSUP_C_MAP_FULL,	/* threads we could not track, each once (map untracked) */
 	RTSUP_C_SYS_FULL,	/* unsafe_sys entries we could not add */
 	RTSUP_C_NEW,		/* threads added by the kernel side */
 	RTSUP_C_CYC_DROPS,	/* cycle records the recording buffer had no room for */

@@ -9,6 +9,7 @@
 #include <string.h>
 #include "canmodel.h"
 #include "hist.h"
+#include "since.h"
 
 /* key_cmp - order of the entries */
 static int key_cmp(const struct rtsup_can_key *a, const struct rtsup_can_key *b)
@@ -304,11 +305,11 @@ static void learn(struct can_entry *e, const struct can_thresholds *th, bool can
 		l->count += gap->count;
 		l->sum += gap->mean * gap->count;
 	}
-	if (now - l->since < th->learn_s * 1e9)
+	if (ns_since(now, l->since) < th->learn_s * 1e9)
 		return;
 	mean = l->count ? l->sum / l->count : 0;
 	if (l->count >= CAN_LEARN_MIN_GAPS && can_gaps_steady(l->min, l->max, mean) &&
-	    now - e->cur.last <= CAN_STEADY * mean)
+	    ns_since(now, e->cur.last) <= CAN_STEADY * mean)
 		e->learned = (__u64)(mean + 0.5);
 	else
 		learn_restart(l, now);	/* not a steady run: look again */
@@ -322,14 +323,14 @@ static void check_responding(struct status *st, const struct can_thresholds *th,
 	__u64 j;
 
 	status_check(st, "can_responding");
-	if (period && last && now > last) {
-		k = (double)(now - last) / period;
+	if (period && last) {
+		k = (double)ns_since(now, last) / period;
 		if (th->error_periods && k >= th->error_periods)
 			status_add(st, LEVEL_ERROR, "not responding: no frame for %.1f ms (%.0f periods)",
-				   (now - last) / 1e6, k);
+				   ns_since(now, last) / 1e6, k);
 		else if (th->warn_periods && k >= th->warn_periods)
 			status_add(st, LEVEL_WARN, "not responding: no frame for %.1f ms (%.0f periods)",
-				   (now - last) / 1e6, k);
+				   ns_since(now, last) / 1e6, k);
 	}
 	if (!period || !gap->count || (!th->jitter_warn_ns && !th->jitter_error_ns))
 		return;
@@ -419,11 +420,10 @@ static void check_canopen(struct canopen_node *co, const struct can_config *cc, 
 {
 	status_reset(&co->st);
 	status_check(&co->st, "canopen");
-	/* a heartbeat stamped after 'now' (read after it) is fresh, not 584 years old */
-	if (co->heartbeat_last && cc->heartbeat_timeout_ns && now > co->heartbeat_last &&
-	    now - co->heartbeat_last > cc->heartbeat_timeout_ns)
+	if (co->heartbeat_last && cc->heartbeat_timeout_ns &&
+	    ns_since(now, co->heartbeat_last) > cc->heartbeat_timeout_ns)
 		status_add(&co->st, LEVEL_ERROR, "no heartbeat for %.0f ms",
-			   (now - co->heartbeat_last) / 1e6);
+			   ns_since(now, co->heartbeat_last) / 1e6);
 	else if (co->heartbeat_last && co->nmt_state != 0x05)
 		status_add(&co->st, LEVEL_WARN, "NMT state %s", can_nmt_name(co->nmt_state));
 	if (co->emcy_frames > co->emcy_prev) {
@@ -552,9 +552,9 @@ void can_model_judge(struct can_model *m, const struct config *cfg, __u64 now,
 		status_reset(&v->st);
 		status_check(&v->st, "initialization");
 		if (!v->frames && n->th.init_timeout_s &&
-		    now - m->start_ns >= n->th.init_timeout_s * 1e9)
+		    ns_since(now, m->start_ns) >= n->th.init_timeout_s * 1e9)
 			status_add(&v->st, LEVEL_WARN, "not initialized: never seen in %.1f s",
-				   (now - m->start_ns) / 1e9);
+				   ns_since(now, m->start_ns) / 1e9);
 		check_responding(&v->st, &n->th, v->last, v->period, &v->gap, now);
 		snprintf(comp, sizeof(comp), "node:%s", n->name);
 		judge(ctx, comp, &old, &v->st, &v->worst);

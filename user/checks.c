@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "checks.h"
+#include "since.h"
 
 #define NS_PER_US 1000.0
 
@@ -29,17 +30,25 @@ __u64 check_period(const struct check_in *in)
 	return p->count >= 8 ? (__u64)p->mean : 0;
 }
 
-/* check_init - seen, but no cycle within the timeout */
+/*
+ * check_init - seen, but no cycle within the timeout. Only a thread a rule
+ * expects to run is late: an RT thread that waits for work (a watchdog, an
+ * interrupt thread, a program's spare worker) is idle, not broken.
+ */
 static void check_init(const struct check_in *in, struct status *s)
 {
 	const struct thresholds *th = &in->rule->th;
-	__u64 age = in->now_ns - in->first_seen_ns;
+	__u64 age = ns_since(in->now_ns, in->first_seen_ns);
 
 	if (!th->init_timeout_s || in->life->cycles || !in->alive)
 		return;
-	if (age >= th->init_timeout_s * 1e9)
+	if (age < th->init_timeout_s * 1e9)
+		return;
+	if (in->expect_run)
 		status_add(s, LEVEL_WARN, "not initialized: no cycle %.1f s after it appeared",
 			   age / 1e9);
+	else
+		status_add(s, LEVEL_OK, "idle: no cycle %.1f s after it appeared", age / 1e9);
 }
 
 /* check_overrun - deadline misses and overruns of one span */
@@ -83,15 +92,15 @@ static void check_starvation(const struct check_in *in, __u64 period, struct sta
 	const struct thresholds *th = &in->rule->th;
 	double k;
 
-	if (!period || !in->last_cycle_ns || !in->alive || in->now_ns <= in->last_cycle_ns)
+	if (!period || !in->last_cycle_ns || !in->alive)
 		return;
-	k = (double)(in->now_ns - in->last_cycle_ns) / period;
+	k = (double)ns_since(in->now_ns, in->last_cycle_ns) / period;
 	if (th->starve_error_periods && k >= th->starve_error_periods)
 		status_add(s, LEVEL_ERROR, "starving: no new cycle for %.1f ms (%.0f periods)",
-			   (in->now_ns - in->last_cycle_ns) / 1e6, k);
+			   ns_since(in->now_ns, in->last_cycle_ns) / 1e6, k);
 	else if (th->starve_warn_periods && k >= th->starve_warn_periods)
 		status_add(s, LEVEL_WARN, "starving: no new cycle for %.1f ms (%.0f periods)",
-			   (in->now_ns - in->last_cycle_ns) / 1e6, k);
+			   ns_since(in->now_ns, in->last_cycle_ns) / 1e6, k);
 }
 
 /* check_unsafe - RT-safety loss, by reason, naming the syscalls */
@@ -207,9 +216,13 @@ void check_thread(const struct check_in *in, struct status *out)
 	__u64 period = check_period(in);
 
 	status_reset(out);
-	/* threads that are neither RT nor named by a rule are only shown */
-	if (!in->judged)
+	/* threads that are neither a program's RT thread nor named by a rule are only shown */
+	if (!in->judged) {
+		status_check(out, "not_judged");
+		if (in->kthread && in->alive)
+			status_add(out, LEVEL_OK, "kernel thread: judged when a rule names it");
 		return;
+	}
 	/* every message says which check made it (CHECK_* names, docs/json.md) */
 	status_check(out, CHECK_EXCEPTION);
 	check_exceptions(in, out);

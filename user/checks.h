@@ -31,7 +31,9 @@ struct check_in {
 	const struct span_view *win;	/* the last interval, NULL before the first */
 	const struct span_view *life;
 	const struct rule *rule;	/* effective rule (defaults + first match) */
-	bool judged;			/* RT policy or a rule of its own: cycle checks apply */
+	bool judged;			/* a program's RT thread or named by a rule */
+	bool expect_run;		/* a rule names it: no cycle at all is a fault */
+	bool kthread;			/* a kernel thread: judged only when a rule names it */
 	bool alive;
 	int policy;
 	int prio;

@@ -11,6 +11,7 @@
 #include <bpf/bpf.h>
 #include <bpf/libbpf.h>
 #include "collector.h"
+#include "liveness.h"
 #include "cycle.h"
 #include "targets.h"
 #include "syscalls.h"
@@ -102,10 +103,12 @@ static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, bool 
 	/* the kernel may have added it since attach: keep its entry */
 	if (bpf_map_update_elem(bpf_map__fd(c->skel->maps.threads), &key, t, BPF_NOEXIST) &&
 	    errno != EEXIST) {
-		if (errno == E2BIG)
-			c->counters[RTSUP_C_MAP_FULL]++;
-		else
+		if (errno != E2BIG)
 			err = -errno;
+		/* counted once, by whichever side notes it first (rtsup.bpf.c) */
+		else if (!bpf_map_update_elem(bpf_map__fd(c->skel->maps.untracked), &key, &k,
+					      BPF_NOEXIST))
+			c->untracked_scan++;
 	}
 	free(t);
 	return err;
@@ -162,14 +165,14 @@ static void read_counters(struct collector *c)
 	int i;
 
 	for (k = 0; k < RTSUP_C_NR; k++) {
-		__u64 sum = k == RTSUP_C_MAP_FULL ? c->counters[k] : 0;
+		/* the start-up scan's misses are threads the kernel side never counted */
+		__u64 sum = k == RTSUP_C_MAP_FULL ? c->untracked_scan : 0;
 
-		if (ncpu > 0 && !bpf_map_lookup_elem(fd, &k, vals))
-			for (i = 0; i < ncpu; i++)
-				sum += vals[i];
-		/* user-side misses of the start-up scan stay in MAP_FULL */
-		if (k != RTSUP_C_MAP_FULL || sum > c->counters[k])
-			c->counters[k] = sum;
+		if (ncpu <= 0 || bpf_map_lookup_elem(fd, &k, vals))
+			continue;	/* keep the last sum: counters never go back */
+		for (i = 0; i < ncpu; i++)
+			sum += vals[i];
+		c->counters[k] = sum;
 	}
 }
 
@@ -193,37 +196,54 @@ static void read_unsafe_sys(struct collector *c)
 	}
 }
 
-/* read_cgroup - the thread's cgroup v2 path from /proc/<tid>/cgroup */
-static void read_cgroup(struct thread_model *tm)
+/* read_cgroup - a thread's cgroup v2 path from /proc/<tid>/cgroup, "" if unknown */
+static void read_cgroup(__u32 tgid, __u32 tid, char *buf, size_t len)
 {
 	char path[64], line[512];
 	FILE *f;
 
-	snprintf(path, sizeof(path), "/proc/%u/task/%u/cgroup", tm->tgid, tm->tid);
+	buf[0] = '\0';
+	snprintf(path, sizeof(path), "/proc/%u/task/%u/cgroup", tgid, tid);
 	f = fopen(path, "re");
 	if (!f)
 		return;
 	while (fgets(line, sizeof(line), f)) {
 		if (!strncmp(line, "0::", 3)) {
 			line[strcspn(line, "\n")] = '\0';
-			snprintf(tm->cgroup, sizeof(tm->cgroup), "%.255s", line + 3);
+			snprintf(buf, len, "%.255s", line + 3);
 			break;
 		}
 	}
 	fclose(f);
 }
 
-/* refresh_identity - scheduling attributes of a live thread */
+/*
+ * rematch - the rules match on the thread's name, its process's name and
+ * its cgroup: when one changes (PR_SET_NAME, exec, a move to another
+ * cgroup) the rules are matched again and the kernel gets the new settings
+ */
+static void rematch(struct thread_model *tm)
+{
+	tm->rule_gen = 0;
+	tm->cfg_gen = 0;
+}
+
+/* refresh_identity - names, cgroup and scheduling attributes of a live thread */
 static void refresh_identity(struct thread_model *tm)
 {
+	char pcomm[RTSUP_COMM_LEN], cg[sizeof(tm->cgroup)];
 	struct sched_param sp;
 
-	if (!tm->pcomm[0]) {
-		/* once: what the rules match on */
-		if (thread_comm(tm->tgid, tm->tgid, tm->pcomm, sizeof(tm->pcomm)))
-			snprintf(tm->pcomm, sizeof(tm->pcomm), "%s", tm->comm);
-		comm_sanitize(tm->pcomm, sizeof(tm->pcomm));
-		read_cgroup(tm);
+	if (!tm->pcomm[0])
+		tm->kthread = thread_is_kernel(tm->tgid, tm->tid);
+	if (thread_comm(tm->tgid, tm->tgid, pcomm, sizeof(pcomm)))
+		snprintf(pcomm, sizeof(pcomm), "%s", tm->comm);
+	comm_sanitize(pcomm, sizeof(pcomm));
+	read_cgroup(tm->tgid, tm->tid, cg, sizeof(cg));
+	if (strcmp(pcomm, tm->pcomm) || strcmp(cg, tm->cgroup)) {
+		memcpy(tm->pcomm, pcomm, sizeof(pcomm));
+		memcpy(tm->cgroup, cg, sizeof(cg));
+		rematch(tm);
 	}
 
 	/*
@@ -259,6 +279,7 @@ static bool thread_gone(__u32 tgid, __u32 tid)
 static int take(struct collector *c, __u32 tid, const struct rtsup_thread *t)
 {
 	struct thread_model *tm = model_get(&c->model, tid, true);
+	char comm[RTSUP_COMM_LEN];
 
 	if (!tm)
 		return -ENOMEM;
@@ -273,10 +294,16 @@ static int take(struct collector *c, __u32 tid, const struct rtsup_thread *t)
 	}
 	model_set(tm, t, c->bank);
 	tm->tgid = t->tgid;
-	memcpy(tm->comm, t->comm, RTSUP_COMM_LEN);
-	tm->comm[RTSUP_COMM_LEN - 1] = '\0';
-	comm_sanitize(tm->comm, RTSUP_COMM_LEN);
-	tm->alive = !t->exited && !(idle_in_window(tm) && thread_gone(t->tgid, tid));
+	memcpy(comm, t->comm, RTSUP_COMM_LEN);
+	comm[RTSUP_COMM_LEN - 1] = '\0';
+	comm_sanitize(comm, RTSUP_COMM_LEN);
+	if (strcmp(comm, tm->comm)) {
+		memcpy(tm->comm, comm, RTSUP_COMM_LEN);
+		rematch(tm);
+	}
+	tm->seen = true;
+	tm->alive = !thread_dead(false, true, t->exited) &&
+		    !(idle_in_window(tm) && thread_gone(t->tgid, tid));
 	if (tm->alive)
 		refresh_identity(tm);
 	else
@@ -293,12 +320,14 @@ static int read_one_by_one(struct collector *c, int fd)
 		key = next;
 		prev = &key;
 		c->map_entries++;
+		/* deleted since its key was read: gone, like a key never read */
 		if (bpf_map_lookup_elem(fd, &key, c->batch_vals))
 			continue;
 		if (take(c, key, c->batch_vals))
 			return -ENOMEM;
 	}
-	return 0;
+	/* ENOENT: past the last key; anything else: the read stopped half-way */
+	return errno == ENOENT ? 0 : -errno;
 }
 
 #ifndef ENOTSUPP
@@ -375,12 +404,16 @@ int collector_sample(struct collector *c)
 	collector_poll(c, 0);
 	/* a thread not in the map any more (reaped) had an empty interval */
 	for (i = 0; i < c->model.n; i++) {
-		c->model.t[i].alive = false;
+		c->model.t[i].seen = false;
 		model_idle(&c->model.t[i]);
 	}
 	err = read_threads(c);
 	if (err)
 		fprintf(stderr, "rtsup-trace: reading the thread map: %s\n", strerror(-err));
+	/* an entry not read is a dead thread only if the whole map was read */
+	for (i = 0; i < c->model.n; i++)
+		if (!c->model.t[i].seen && thread_dead(!err, false, false))
+			c->model.t[i].alive = false;
 	read_unsafe_sys(c);
 	read_counters(c);
 	return err;
@@ -395,6 +428,31 @@ static void forget_sys(struct collector *c, __u32 tid)
 	while (!bpf_map_get_next_key(fd, prev, &next)) {
 		key = next;
 		if (key.tid == tid) {
+			bpf_map_delete_elem(fd, &key);
+			continue;	/* restart after the deleted key */
+		}
+		prev = &key;
+	}
+}
+
+/* same_thread - does the kernel entry of tm's tid still belong to tm's thread? */
+static bool same_thread(struct collector *c, int fd, const struct thread_model *tm)
+{
+	/* batch_vals: a buffer of one entry at least, unused between reads */
+	if (bpf_map_lookup_elem(fd, &tm->tid, c->batch_vals))
+		return true;	/* gone already: deleting it again does no harm */
+	return c->batch_vals->first_seen == tm->cur.first_seen;
+}
+
+/* forget_untracked - threads not tracked that are gone: their tid may come back */
+static void forget_untracked(struct collector *c)
+{
+	int fd = bpf_map__fd(c->skel->maps.untracked);
+	__u32 key, next, tgid, *prev = NULL;
+
+	while (!bpf_map_get_next_key(fd, prev, &next)) {
+		key = next;
+		if (!bpf_map_lookup_elem(fd, &key, &tgid) && thread_gone(tgid, key)) {
 			bpf_map_delete_elem(fd, &key);
 			continue;	/* restart after the deleted key */
 		}
@@ -417,11 +475,14 @@ void collector_reap(struct collector *c)
 			continue;
 		/* reported once: the kernel entry is freed, the model keeps the numbers */
 		tm->reported_exit = true;
+		if (!same_thread(c, fd, tm))
+			continue;	/* a new thread has the tid already (add_thread) */
 		bpf_map_delete_elem(fd, &tm->tid);
 		bpf_map_delete_elem(bpf_map__fd(c->skel->maps.thread_cfg), &tm->tid);
 		forget_sys(c, tm->tid);
 	}
 	model_prune_dead(&c->model, MODEL_KEEP_DEAD);
+	forget_untracked(c);
 	/* processes that are gone must not match a reused pid */
 	while (!bpf_map_get_next_key(tfd, prev, &next)) {
 		key = next;

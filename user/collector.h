@@ -25,6 +25,7 @@ struct collector {
 	struct ring_buffer *rb;
 	__u32 bank;			/* interval bank of the last sample */
 	__u64 counters[RTSUP_C_NR];	/* the kernel side's own counters */
+	__u64 untracked_scan;		/* of them, found by the start-up scan (userspace) */
 	struct eventlog events;		/* the interval's rare events (eventlog.h) */
 	__u64 events_total;		/* every rare event of the run */
 	__s64 real_off;			/* CLOCK_REALTIME - CLOCK_MONOTONIC, ns */

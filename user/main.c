@@ -21,6 +21,7 @@
 #include "loader.h"
 #include "options.h"
 #include "output.h"
+#include "pidns.h"
 #include "replay.h"
 #include "robot.h"
 #include "sinks.h"
@@ -202,6 +203,20 @@ static void sample_can(const struct options *o, struct supervisor *s, const stru
 	s->can->full = c->counters[RTSUP_C_CAN_FULL];
 }
 
+/*
+ * sample - end an interval: read every map, then the clock. The kernel keeps
+ * stamping while the maps are read; 'now' read after them is not older than
+ * any timestamp they hold (ns_since clamps what is left, since.h).
+ */
+static __u64 sample(const struct options *o, struct supervisor *s, const struct loader *l,
+		    struct collector *c)
+{
+	collector_sample(c);
+	s->real_off = c->real_off;
+	sample_can(o, s, l, c);
+	return mono_now();
+}
+
 /* do_reload - SIGHUP: a good file replaces the rules, a bad one is refused */
 static void do_reload(const struct options *o, struct supervisor *s)
 {
@@ -235,6 +250,11 @@ static int run_live(struct options *o, struct supervisor *s)
 	enum level worst = LEVEL_OK;
 	bool child_done = false;
 
+	if (!pidns_is_initial()) {
+		output_error(o, "PID namespace: rtsup-trace runs inside a container's PID "
+			     "namespace, where its tids are not the kernel's; run it on the host");
+		return 1;
+	}
 	if (robot_prepare(&rb, o, s) || check_targets(o) || (o->can && can_resolve(o)))
 		return 1;
 	o->canopen = s->cfg.can.canopen;
@@ -302,9 +322,7 @@ static int run_live(struct options *o, struct supervisor *s)
 				break;
 			continue;
 		}
-		collector_sample(&c);
-		s->real_off = c.real_off;
-		sample_can(o, s, &l, &c);
+		now = sample(o, s, &l, &c);
 		self_in(&self, &c, s, overhead_interval(&ov, &l, o, now, false), &last_drops);
 		supervise_interval(s, &c.model, c.bank, &self, now);
 		supervise_can(s, now, (now - last) / 1e9);
@@ -329,9 +347,7 @@ static int run_live(struct options *o, struct supervisor *s)
 		waitpid(child, &status, 0);
 		child_done = true;
 	}
-	now = mono_now();
-	collector_sample(&c);
-	sample_can(o, s, &l, &c);
+	now = sample(o, s, &l, &c);
 	self_in(&self, &c, s, overhead_interval(&ov, &l, o, now, true), &last_drops);
 	supervise_interval(s, &c.model, c.bank, &self, now);
 	supervise_can(s, now, (now - last) / 1e9);

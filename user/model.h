@@ -70,6 +70,7 @@ struct thread_model {
 	char cpus[64];		/* allowed CPUs as a list, e.g. "0-3" */
 	bool alive;
 	bool reported_exit;
+	bool seen;		/* its entry was in the last read of the thread map */
 	struct rtsup_thread cur;	/* the last snapshot of the kernel entry */
 	/*
 	 * Computed once per snapshot (model_set) for every check and sink:
@@ -91,6 +92,7 @@ struct thread_model {
 	__u32 restarted_from;		/* tid of the dead instance it replaces */
 	bool replaced;			/* a restarted instance took its place */
 	bool was_rt;			/* it ran with an RT policy at some point */
+	bool kthread;			/* a kernel thread (PF_KTHREAD) */
 	struct status st;		/* verdict of the last interval */
 	enum level worst;		/* worst level ever reached */
 	__u64 dead_seq;			/* order of death, set by model_prune_dead */

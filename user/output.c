@@ -154,6 +154,7 @@ static json_t *json_thread(const struct collector *c, const struct supervisor *s
 		}
 	}
 	json_object_set_new(o, "process", json_string(tm->pcomm));
+	json_object_set_new(o, "kernel_thread", json_boolean(tm->kthread));
 	json_object_set_new(o, "status", json_status(&tm->st));
 	json_object_set_new(o, "worst_level", json_string(level_name(tm->worst)));
 	if (tm->rule >= 0 && tm->rule_gen == sv->gen)

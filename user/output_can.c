@@ -8,6 +8,7 @@
 #include <string.h>
 #include "model.h"
 #include "output_can.h"
+#include "since.h"
 
 /* id_text - "0x123" or "0x12345678x" for 29-bit identifiers */
 static void id_text(__u32 id, char *buf, size_t len)
@@ -45,7 +46,7 @@ void can_table(const struct can_model *m, const struct config *cfg, __u64 now,
 {
 	char id[24], load[16], g[4][16], ago[16];
 	struct metric_view v;
-	double span = total ? (now - m->start_ns) / 1e9 : interval_s;
+	double span = total ? ns_since(now, m->start_ns) / 1e9 : interval_s;
 	int i;
 
 	printf("%-10s %9s %9s %9s %9s %6s %9s %s\n", "CAN", "LOAD", "BITRATE", "RX/s", "TX/s",
@@ -80,7 +81,7 @@ void can_table(const struct can_model *m, const struct config *cfg, __u64 now,
 		snprintf(g[1], 16, v.count ? "%.1f" : "-", v.min / 1e3);
 		snprintf(g[2], 16, v.count ? "%.1f" : "-", v.max / 1e3);
 		snprintf(g[3], 16, v.count ? "%.1f" : "-", v.p99 / 1e3);
-		snprintf(ago, sizeof(ago), "%.0f", (now - e->cur.last) / 1e6);
+		snprintf(ago, sizeof(ago), "%.0f", ns_since(now, e->cur.last) / 1e6);
 		printf("  %-22.22s %3s %9llu %9.1f %9s %9s %9s %9s %9s %s\n", name,
 		       e->key.dir == RTSUP_CAN_TX ? "tx" : "rx",
 		       (unsigned long long)entry_frames(e, total),
@@ -168,7 +169,7 @@ json_t *can_json(const struct can_model *m, const struct config *cfg, __u64 now,
 {
 	json_t *o = json_object(), *ifs = json_array(), *ids = json_array(),
 	       *nodes = json_array(), *groups = json_array(), *co = json_array();
-	double span = total ? (now - m->start_ns) / 1e9 : interval_s;
+	double span = total ? ns_since(now, m->start_ns) / 1e9 : interval_s;
 	struct metric_view v;
 	char id[24];
 	int i, k;
@@ -210,7 +211,7 @@ json_t *can_json(const struct can_model *m, const struct config *cfg, __u64 now,
 			      "rtr", (json_int_t)e->cur.rtr,
 			      "rate", span > 0 ? entry_frames(e, total) / span : 0.0,
 			      "gap_ns", json_gap(&v),
-			      "last_ago_ms", (now - e->cur.last) / 1e6,
+			      "last_ago_ms", ns_since(now, e->cur.last) / 1e6,
 			      "learned_period_ns", (json_int_t)e->learned);
 		if (e->node >= 0)
 			json_object_set_new(x, "node", json_string(cfg->can.nodes[e->node].name));
@@ -233,7 +234,8 @@ json_t *can_json(const struct can_model *m, const struct config *cfg, __u64 now,
 			"group", cfg->can.nodes[i].group, "frames",
 			(json_int_t)(total ? n->frames : n->frames_win), "period_ns",
 			(json_int_t)n->period, "gap_ns", json_gap(total ? &n->gap_life : &n->gap),
-			"last_ago_ms", n->last ? json_real((now - n->last) / 1e6) : json_null(),
+			"last_ago_ms",
+			n->last ? json_real(ns_since(now, n->last) / 1e6) : json_null(),
 			"status", json_st(&n->st, n->worst)));
 	}
 	for (i = 0; i < m->ngroups; i++)
@@ -251,7 +253,7 @@ json_t *can_json(const struct can_model *m, const struct config *cfg, __u64 now,
 			"nmt_state",
 			c->heartbeat_last ? can_nmt_name(c->nmt_state) : "unknown",
 			"heartbeat_ago_ms", c->heartbeat_last ?
-			json_real((now - c->heartbeat_last) / 1e6) : json_null(),
+			json_real(ns_since(now, c->heartbeat_last) / 1e6) : json_null(),
 			"emcy_frames", (json_int_t)c->emcy_frames, "emcy_code", c->emcy_code,
 			"emcy_register", c->emcy_reg, "sdo_responses", (json_int_t)c->sdo_count,
 			"sdo_mean_ns", c->sdo_count ? (double)c->sdo_sum / c->sdo_count : 0.0,

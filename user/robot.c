@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "robot.h"
+#include "since.h"
 
 int robot_prepare(struct robot *r, const struct options *o, struct supervisor *s)
 {
@@ -29,7 +30,7 @@ static void render(struct robot *r, struct collector *c, const struct supervisor
 		.map_entries = c->map_entries,
 		.map_capacity = r->o->max_threads,
 		.forgotten = c->model.forgotten,
-		.elapsed = (now - c->start_ns) / 1e9,
+		.elapsed = ns_since(now, c->start_ns) / 1e9,
 	};
 
 	if (!r->o->prom_textfile && !r->o->listen)

@@ -177,10 +177,16 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 		in.win = &tm->win;
 		in.life = &tm->life;
 		in.rule = r;
-		/* RT threads and threads a rule names are held to the cycle checks */
+		/*
+		 * RT threads of programs and threads a rule names are held to the
+		 * cycle checks; kernel threads (--rt finds watchdogd, irq/N-...)
+		 * only when a rule names them
+		 */
 		if (tm->policy == 1 || tm->policy == 2 || tm->policy == 6)
 			tm->was_rt = true;
-		in.judged = tm->rule >= 0 || tm->was_rt;
+		in.judged = tm->rule >= 0 || (tm->was_rt && !tm->kthread);
+		in.expect_run = tm->rule >= 0;
+		in.kthread = tm->kthread;
 		in.alive = tm->alive;
 		in.policy = tm->policy;
 		in.prio = tm->prio;

@@ -49,6 +49,34 @@ int thread_comm(pid_t tgid, pid_t tid, char *buf, size_t len)
 	return 0;
 }
 
+unsigned long stat_flags(const char *line)
+{
+	/* the name may hold spaces and ')': the fields start after the last ')' */
+	const char *p = strrchr(line, ')');
+	unsigned long flags;
+
+	/* state ppid pgrp session tty_nr tpgid flags */
+	if (!p || sscanf(p + 1, " %*c %*d %*d %*d %*d %*d %lu", &flags) != 1)
+		return 0;
+	return flags;
+}
+
+bool thread_is_kernel(pid_t tgid, pid_t tid)
+{
+	char path[96], line[512];
+	FILE *f;
+	bool k = false;
+
+	snprintf(path, sizeof(path), "/proc/%d/task/%d/stat", tgid, tid);
+	f = fopen(path, "re");
+	if (!f)
+		return false;
+	if (fgets(line, sizeof(line), f))
+		k = stat_flags(line) & TARGETS_PF_KTHREAD;
+	fclose(f);
+	return k;
+}
+
 void comm_sanitize(char *s, size_t len)
 {
 	size_t i;

@@ -33,6 +33,12 @@ bool targets_any(const struct targets *t);
 int targets_scan(const struct targets *t, target_cb cb, void *ctx);
 /* thread_comm - read /proc/<tgid>/task/<tid>/comm, 0 on success */
 int thread_comm(pid_t tgid, pid_t tid, char *buf, size_t len);
+/* PF_KTHREAD of include/linux/sched.h: the task is a kernel thread */
+#define TARGETS_PF_KTHREAD 0x00200000U
+/* stat_flags - the flags field of a /proc/<pid>/stat line; 0 if unreadable */
+unsigned long stat_flags(const char *line);
+/* thread_is_kernel - is this a kernel thread (PF_KTHREAD)? false if unknown */
+bool thread_is_kernel(pid_t tgid, pid_t tid);
 /*
  * comm_sanitize - a thread name is any bytes: keep printable ASCII only, so
  * tables stay aligned and JSON stays valid UTF-8

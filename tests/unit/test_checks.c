@@ -15,6 +15,7 @@
 #include <cmocka.h>
 
 #include "checks.h"
+#include "since.h"
 
 #define US	1000ULL
 #define MS	1000000ULL
@@ -181,6 +182,7 @@ static void no_cycles_yet(void)
 static void test_checks_init_timeout_warn(void **state)
 {
 	no_cycles_yet();
+	IN.expect_run = true;	/* a rule names it */
 	IN.first_seen_ns = IN.now_ns - 6 * SEC;
 	run();
 	expect_one(LEVEL_WARN, "not initialized: no cycle 6.0 s after it appeared");
@@ -189,6 +191,7 @@ static void test_checks_init_timeout_warn(void **state)
 static void test_checks_init_at_timeout_warn(void **state)
 {
 	no_cycles_yet();
+	IN.expect_run = true;
 	IN.first_seen_ns = IN.now_ns - 5 * SEC;
 	run();
 	expect_one(LEVEL_WARN, "not initialized: no cycle 5.0 s after it appeared");
@@ -230,6 +233,75 @@ static void test_checks_init_timeout_off(void **state)
 	R.th.init_timeout_s = 0;
 	run();
 	expect_none();
+}
+
+/* an RT thread no rule names that never showed a cycle waits for work: idle (issue 12) */
+static void test_checks_init_unnamed_is_idle(void **state)
+{
+	no_cycles_yet();
+	IN.first_seen_ns = IN.now_ns - 6 * SEC;
+	run();
+	expect_one(LEVEL_OK, "idle: no cycle 6.0 s after it appeared");
+}
+
+static void test_checks_init_unnamed_before_timeout(void **state)
+{
+	no_cycles_yet();
+	IN.first_seen_ns = IN.now_ns - 4 * SEC;
+	run();
+	expect_none();
+}
+
+/* a kernel thread no rule names (watchdogd, irq/24-ACPI:Ged under --rt): shown, not judged */
+static void test_checks_kthread_unnamed_not_judged(void **state)
+{
+	no_cycles_yet();
+	IN.first_seen_ns = IN.now_ns - 60 * SEC;
+	IN.judged = false;
+	IN.kthread = true;
+	W.misses = 50;
+	run();
+	expect_one(LEVEL_OK, "kernel thread: judged when a rule names it");
+}
+
+/* a kernel thread a rule names is judged like any other thread */
+static void test_checks_kthread_named_judged(void **state)
+{
+	no_cycles_yet();
+	IN.first_seen_ns = IN.now_ns - 60 * SEC;
+	IN.kthread = true;
+	IN.expect_run = true;
+	run();
+	expect_one(LEVEL_WARN, "not initialized: no cycle 60.0 s after it appeared");
+}
+
+/*
+ * A thread first seen while the maps were read has a first_seen newer than
+ * 'now': it is 0 s old, not 18446744073.7 s (issue 12, item 5).
+ */
+static void test_checks_init_first_seen_after_now(void **state)
+{
+	no_cycles_yet();
+	IN.expect_run = true;
+	IN.first_seen_ns = IN.now_ns + 1000;
+	run();
+	expect_none();
+}
+
+/* a cycle that started after 'now' was read is no starvation */
+static void test_checks_starve_last_cycle_after_now(void **state)
+{
+	IN.last_cycle_ns = IN.now_ns + 1000;
+	run();
+	expect_none();
+}
+
+static void test_checks_ns_since_clamps(void **state)
+{
+	assert_int_equal(ns_since(10, 3), 7);
+	assert_int_equal(ns_since(10, 10), 0);
+	assert_int_equal(ns_since(10, 11), 0);
+	assert_int_equal(ns_since(0, ~0ULL), 0);
 }
 
 /* ---- overrun / deadline miss ---- */
@@ -1103,6 +1175,13 @@ int main(void)
 		C(test_checks_init_with_cycles),
 		C(test_checks_init_dead),
 		C(test_checks_init_timeout_off),
+		C(test_checks_init_unnamed_is_idle),
+		C(test_checks_init_unnamed_before_timeout),
+		C(test_checks_kthread_unnamed_not_judged),
+		C(test_checks_kthread_named_judged),
+		C(test_checks_init_first_seen_after_now),
+		C(test_checks_starve_last_cycle_after_now),
+		C(test_checks_ns_since_clamps),
 		C(test_checks_miss_warn),
 		C(test_checks_miss_at_rate_warn),
 		C(test_checks_miss_rate_error),
