@@ -106,7 +106,7 @@ $(OUT)/rtsup-cansim: scripts/cansim/cansim.c | $(OUT)
 UNIT_DEPS_test_model  := user/model.c
 UNIT_DEPS_test_eventlog := user/eventlog.c
 UNIT_DEPS_test_syscalls := user/syscalls.c
-UNIT_DEPS_test_config := user/config.c user/syscalls.c
+UNIT_DEPS_test_config := user/config.c user/syscalls.c user/actionspec.c user/status.c
 UNIT_LIBS_test_config := -lyaml
 UNIT_DEPS_test_record := user/record.c user/jsonstr.c user/errline.c
 UNIT_LIBS_test_record := -lz -ljansson
@@ -114,6 +114,7 @@ UNIT_DEPS_test_perfetto := user/perfetto.c user/jsonstr.c user/errline.c
 UNIT_LIBS_test_perfetto := -ljansson
 UNIT_DEPS_test_checks := user/checks.c user/model.c user/status.c
 UNIT_DEPS_test_status := user/status.c
+UNIT_DEPS_test_actionspec := user/actionspec.c user/status.c
 UNIT_DEPS_test_targets := user/targets.c
 UNIT_DEPS_test_candump := user/candump.c
 UNIT_DEPS_test_prom := user/prom.c user/model.c user/status.c user/syscalls.c
@@ -121,7 +122,7 @@ UNIT_DEPS_test_service := user/service.c user/status.c
 UNIT_LIBS_test_service := -lsystemd
 UNIT_DEPS_test_promexp := user/promexp.c
 UNIT_LIBS_test_promexp := -lpthread
-UNIT_DEPS_test_canmodel := user/canmodel.c user/model.c user/status.c user/config.c user/syscalls.c
+UNIT_DEPS_test_canmodel := user/canmodel.c user/model.c user/status.c user/config.c user/syscalls.c user/actionspec.c
 UNIT_LIBS_test_canmodel := -lyaml
 .SECONDEXPANSION:
 $(OUT)/tests/%: tests/unit/%.c $$(UNIT_DEPS_$$*) $(OUT)/syscall_table.h | $(OUT)/tests

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "actionspec.h"
 #include "options.h"
 #include "rtsup.h"
 #include "status.h"
@@ -58,6 +59,7 @@ enum {
 	OPT_BITRATE,
 	OPT_CAN_MAX_IDS,
 	OPT_FLOOR,
+	OPT_ON_LEVEL,
 };
 
 static const struct argp_option opts[] = {
@@ -91,6 +93,10 @@ static const struct argp_option opts[] = {
 	  "Supervise a CAN interface (repeatable); without IFACE every CAN interface", 0 },
 	{ "bitrate", OPT_BITRATE, "BPS", 0, "CAN bitrate for the bus load when the interface does not tell (vcan)", 0 },
 	{ "can-max-ids", OPT_CAN_MAX_IDS, "N", 0, "Capacity of the CAN identifier map (default 4096)", 0 },
+	{ "on-level", OPT_ON_LEVEL, "SPEC", 0,
+	  "On a level change run a command, send a signal or write a JSON line "
+	  "(repeatable): [!]LEVEL:CMD, LEVEL:signal=SIG[@PID], LEVEL:fifo=PATH, "
+	  "LEVEL:unix=PATH; ! = on leaving LEVEL", 0 },
 	/* make bench: the same hooks with empty programs, the floor of any BPF tracer */
 	{ "floor", OPT_FLOOR, NULL, OPTION_HIDDEN, "Attach empty programs instead (benchmark)", 0 },
 	{},
@@ -301,6 +307,17 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 	case OPT_FLOOR:
 		o->floor = true;
 		break;
+	case OPT_ON_LEVEL: {
+		struct action a;
+		char why[160];
+
+		if (o->non_level == ACTION_MAX)
+			return bad(st, "--on-level", arg, "at most 16 actions");
+		if (action_parse(arg, &a, why, sizeof(why)))
+			return bad(st, "--on-level", arg, why);
+		o->on_level[o->non_level++] = arg;
+		break;
+	}
 	case ARGP_KEY_ARG:
 		if (o->replay_path && !*o->replay_path) {
 			o->replay_path = arg;	/* replay FILE */

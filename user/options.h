@@ -44,6 +44,8 @@ struct options {
 	__u64 can_bitrate;	/* --bitrate: overrides what the interface says */
 	__u32 can_max_ids;	/* --can-max-ids: capacity of the identifier map */
 	bool canopen;		/* from the configuration: CANopen matching in the kernel */
+	const char *on_level[16];	/* --on-level SPEC, checked by action_parse */
+	int non_level;
 	bool floor;		/* --floor (hidden): empty programs on the same hooks, for make bench */
 };
 
