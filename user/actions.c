@@ -35,10 +35,6 @@ extern char **environ;
 #define SPEC_LEN	(ACTION_ARG_LEN + 32)
 #define NENV		7	/* the RTSUP_* variables */
 
-/* what a running command is, for the line that reports its end */
-static char running_spec[ACTIONS_MAX_RUNNING][SPEC_LEN];
-static char running_comp[ACTIONS_MAX_RUNNING][48];
-
 /* fail - the one line of a failed action */
 static void __attribute__((format(printf, 3, 4)))
 fail(const struct action *act, const char *comp, const char *fmt, ...)
@@ -80,6 +76,25 @@ char *actions_json(const struct level_change *c)
 	return line;
 }
 
+/*
+ * not passed on: our own RTSUP_* from a parent, and systemd's notify and
+ * watchdog settings, which are rtsup-trace's and not a command's
+ */
+static const char *const env_drop[] = {
+	"RTSUP_", "NOTIFY_SOCKET=", "WATCHDOG_PID=", "WATCHDOG_USEC=",
+};
+
+/* env_dropped - a variable a command does not inherit */
+static bool env_dropped(const char *var)
+{
+	size_t i;
+
+	for (i = 0; i < sizeof(env_drop) / sizeof(env_drop[0]); i++)
+		if (!strncmp(var, env_drop[i], strlen(env_drop[i])))
+			return true;
+	return false;
+}
+
 /* make_env - our environment with the RTSUP_* variables of this change first */
 static char **make_env(const struct level_change *c, char vars[NENV][1200])
 {
@@ -109,13 +124,13 @@ static char **make_env(const struct level_change *c, char vars[NENV][1200])
 	for (i = 0; i < NENV; i++)
 		env[k++] = vars[i];
 	for (i = 0; i < n; i++)
-		if (strncmp(environ[i], "RTSUP_", 6))
+		if (!env_dropped(environ[i]))
 			env[k++] = environ[i];
 	return env;
 }
 
 /* run_cmd - spawn /bin/sh -c CMD with the change on stdin; never waits */
-static void run_cmd(struct actions *a, int idx, const struct action *act,
+static void run_cmd(struct actions *a, const struct action *act,
 		    const struct level_change *c, const char *line)
 {
 	static char vars[NENV][1200];
@@ -171,9 +186,9 @@ static void run_cmd(struct actions *a, int idx, const struct action *act,
 	close(p[1]);
 	close(p[0]);
 	a->child[slot].pid = pid;
-	a->child[slot].action = idx;
-	action_format(act, running_spec[slot], SPEC_LEN);
-	snprintf(running_comp[slot], sizeof(running_comp[slot]), "%s", c->component);
+	action_format(act, a->child[slot].spec, sizeof(a->child[slot].spec));
+	snprintf(a->child[slot].component, sizeof(a->child[slot].component), "%s",
+		 c->component);
 	a->runs++;
 }
 
@@ -314,7 +329,7 @@ static void on_change(void *ctx, const struct level_change *c)
 			json = line;
 		}
 		if (act->kind == ACTION_RUN)
-			run_cmd(a, i, act, c, json);
+			run_cmd(a, act, c, json);
 		else
 			write_line(a, act, c, json);
 	}
@@ -341,11 +356,11 @@ void actions_poll(struct actions *a)
 		a->child[i].pid = 0;
 		if (WIFEXITED(st) && WEXITSTATUS(st))
 			fprintf(stderr, "rtsup-trace: action '%s' for %s: exited with status %d%s\n",
-				running_spec[i], running_comp[i], WEXITSTATUS(st),
+				a->child[i].spec, a->child[i].component, WEXITSTATUS(st),
 				WEXITSTATUS(st) == 127 ? " (command not found?)" : "");
 		else if (WIFSIGNALED(st))
 			fprintf(stderr, "rtsup-trace: action '%s' for %s: killed by signal %d\n",
-				running_spec[i], running_comp[i], WTERMSIG(st));
+				a->child[i].spec, a->child[i].component, WTERMSIG(st));
 	}
 }
 

@@ -21,7 +21,8 @@ struct actions {
 	struct rate_limit rate;
 	struct {
 		pid_t pid;		/* 0 = free */
-		int action;
+		char spec[ACTION_ARG_LEN + 32];	/* for the line that reports its end */
+		char component[48];
 	} child[ACTIONS_MAX_RUNNING];
 	__u64 skipped_rate;		/* by the rate limit */
 	__u64 skipped_busy;		/* ACTIONS_MAX_RUNNING were running */

@@ -103,12 +103,11 @@ static int load_config(const struct options *o, const char *path, struct config 
 	/* --on-level adds to the file's actions: (cli.c checked each) */
 	for (i = 0; i < o->non_level; i++) {
 		struct action a;
-		char why[160];
+		char why[160] = "too many actions with the file's (at most 16)";
 
 		if (action_parse(o->on_level[i], &a, why, sizeof(why)) ||
 		    config_add_action(cfg, &a)) {
-			fprintf(stderr, "rtsup-trace: --on-level '%s': %s\n", o->on_level[i],
-				"too many actions with the file's (at most 16)");
+			fprintf(stderr, "rtsup-trace: --on-level '%s': %s\n", o->on_level[i], why);
 			config_free(cfg);
 			return -1;
 		}
