@@ -115,7 +115,7 @@ UNIT_DEPS_test_eventlog := user/eventlog.c
 UNIT_DEPS_test_histdraw := user/histdraw.c
 UNIT_DEPS_test_progress := user/progress.c
 UNIT_DEPS_test_syscalls := user/syscalls.c
-UNIT_DEPS_test_config := user/config.c user/syscalls.c
+UNIT_DEPS_test_config := user/config.c user/syscalls.c user/actionspec.c user/status.c
 UNIT_LIBS_test_config := -lyaml
 UNIT_DEPS_test_record := user/record.c user/jsonstr.c user/errline.c
 UNIT_LIBS_test_record := -lz -ljansson
@@ -123,6 +123,9 @@ UNIT_DEPS_test_perfetto := user/perfetto.c user/jsonstr.c user/errline.c
 UNIT_LIBS_test_perfetto := -ljansson
 UNIT_DEPS_test_checks := user/checks.c user/model.c user/status.c
 UNIT_DEPS_test_status := user/status.c
+UNIT_DEPS_test_actionspec := user/actionspec.c user/status.c
+UNIT_DEPS_test_actions := user/actions.c user/actionspec.c user/status.c user/config.c user/syscalls.c
+UNIT_LIBS_test_actions := -ljansson -lyaml
 UNIT_DEPS_test_targets := user/targets.c
 UNIT_DEPS_test_pidns := user/pidns.c
 UNIT_DEPS_test_candump := user/candump.c
@@ -131,7 +134,7 @@ UNIT_DEPS_test_service := user/service.c user/status.c
 UNIT_LIBS_test_service := -lsystemd
 UNIT_DEPS_test_promexp := user/promexp.c
 UNIT_LIBS_test_promexp := -lpthread
-UNIT_DEPS_test_canmodel := user/canmodel.c user/model.c user/status.c user/config.c user/syscalls.c
+UNIT_DEPS_test_canmodel := user/canmodel.c user/model.c user/status.c user/config.c user/syscalls.c user/actionspec.c
 UNIT_LIBS_test_canmodel := -lyaml
 .SECONDEXPANSION:
 $(OUT)/tests/%: tests/unit/%.c $$(UNIT_DEPS_$$*) $(OUT)/syscall_table.h | $(OUT)/tests

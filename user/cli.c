@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "actionspec.h"
 #include "options.h"
 #include "rtsup.h"
 #include "status.h"
@@ -63,6 +64,7 @@ enum {
 	OPT_FLOOR,
 	OPT_HIST,
 	OPT_HIST_INTERVAL,
+	OPT_ON_LEVEL,
 };
 
 static const struct argp_option opts[] = {
@@ -100,6 +102,10 @@ static const struct argp_option opts[] = {
 	  "Histograms at the end: latency (default), exec, period, cpu; comma separated", 0 },
 	{ "hist-interval", OPT_HIST_INTERVAL, NULL, 0, "With --hist: every interval's histograms too", 0 },
 	{ "quiet", 'q', NULL, 0, "No progress bar (replay)", 0 },
+	{ "on-level", OPT_ON_LEVEL, "SPEC", 0,
+	  "On a level change run a command, send a signal or write a JSON line "
+	  "(repeatable): [!]LEVEL:CMD, LEVEL:signal=SIG[@PID], LEVEL:fifo=PATH, "
+	  "LEVEL:unix=PATH; ! = on leaving LEVEL", 0 },
 	/* make bench: the same hooks with empty programs, the floor of any BPF tracer */
 	{ "floor", OPT_FLOOR, NULL, OPTION_HIDDEN, "Attach empty programs instead (benchmark)", 0 },
 	{},
@@ -347,6 +353,17 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 	case 'q':
 		o->quiet = true;
 		break;
+	case OPT_ON_LEVEL: {
+		struct action a;
+		char why[160];
+
+		if (o->non_level == ACTION_MAX)
+			return bad(st, "--on-level", arg, "at most 16 actions");
+		if (action_parse(arg, &a, why, sizeof(why)))
+			return bad(st, "--on-level", arg, why);
+		o->on_level[o->non_level++] = arg;
+		break;
+	}
 	case ARGP_KEY_ARG:
 		if (o->replay_path && !*o->replay_path) {
 			o->replay_path = arg;	/* replay FILE */

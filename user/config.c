@@ -11,6 +11,7 @@
  */
 #include <errno.h>
 #include <fnmatch.h>
+#include <limits.h>
 #include <math.h>
 #include <sched.h>
 #include <stdarg.h>
@@ -58,6 +59,9 @@ enum ftype {
 	F_IFACE,	/* char [16], a network interface name, "any" = "" */
 	F_CANID,	/* __u32 id_lo at .off, id_hi at .off2: a CAN id or range */
 	F_CANDIR,	/* int RTSUP_CAN_RX, RTSUP_CAN_TX or CAN_DIR_ANY */
+	F_LEVEL,	/* enum level: OK, WARN, ERROR, STALE */
+	F_WHEN,		/* bool: "enter" false, "leave" true */
+	F_SIGNAL,	/* int signal number: USR1, SIGTERM, 10 */
 };
 
 struct field {
@@ -225,6 +229,41 @@ static const struct field node_f[] = {
 	{ .key = "learn", .type = F_SECONDS, .off = N(th) + CT(learn_s) },
 	{ .key = "init_timeout", .type = F_SECONDS, .off = N(th) + CT(init_timeout_s) },
 	{},
+};
+
+/* An entry of actions: (struct action); exactly one of run, signal, fifo, unix. */
+#define A(m)	offsetof(struct action, m)
+#define UNIX_PATH_LEN	108	/* sizeof(sockaddr_un.sun_path) */
+
+enum action_field {
+	AF_LEVEL = 1 << 0,
+	AF_RUN = 1 << 1,
+	AF_SIGNAL = 1 << 2,
+	AF_FIFO = 1 << 3,
+	AF_UNIX = 1 << 4,
+	AF_PID = 1 << 5,
+};
+
+static const struct field action_f[] = {
+	{ .key = "level", .type = F_LEVEL, .off = A(level), .flag = AF_LEVEL },
+	{ .key = "when", .type = F_WHEN, .off = A(leave) },
+	{ .key = "run", .type = F_STR, .off = A(arg), .max = ACTION_ARG_LEN, .flag = AF_RUN },
+	{ .key = "signal", .type = F_SIGNAL, .off = A(sig), .flag = AF_SIGNAL },
+	{ .key = "pid", .type = F_COUNT, .off = A(pid), .flag = AF_PID },
+	{ .key = "fifo", .type = F_STR, .off = A(arg), .max = ACTION_ARG_LEN, .flag = AF_FIFO },
+	{ .key = "unix", .type = F_STR, .off = A(arg), .max = UNIX_PATH_LEN, .flag = AF_UNIX },
+	{},
+};
+
+/* which key of an entry gives which kind of action */
+static const struct {
+	__u32 flag;
+	enum action_kind kind;
+} action_kinds[] = {
+	{ AF_RUN, ACTION_RUN },
+	{ AF_SIGNAL, ACTION_SIGNAL },
+	{ AF_FIFO, ACTION_FIFO },
+	{ AF_UNIX, ACTION_UNIX },
 };
 
 static const struct {
@@ -707,6 +746,21 @@ static int parse_field(struct parse *p, const struct field *f, yaml_node_t *v,
 		else
 			return fail(p, v, "unknown direction '%s' (want rx, tx or any)", s);
 		return 0;
+	case F_LEVEL:
+		if (level_parse(s) < 0)
+			return fail(p, v, "unknown level '%s' (want OK, WARN, ERROR or STALE)", s);
+		*(enum level *)dst = level_parse(s);
+		return 0;
+	case F_WHEN:
+		if (strcmp(s, "enter") && strcmp(s, "leave"))
+			return fail(p, v, "unknown when '%s' (want enter or leave)", s);
+		*(bool *)dst = !strcmp(s, "leave");
+		return 0;
+	case F_SIGNAL:
+		if (signal_parse(s) < 0)
+			return fail(p, v, "unknown signal '%s' (want e.g. USR1, TERM or 10)", s);
+		*(int *)dst = signal_parse(s);
+		return 0;
 	default:
 		return parse_number(p, f, v, name, dst);
 	}
@@ -1047,7 +1101,65 @@ static int parse_can(struct parse *p, yaml_node_t *map, struct config *c)
 	return nodes ? parse_nodes(p, nodes, &c->can) : 0;
 }
 
-/* parse_top - the document: a map with defaults:, rules: and can: */
+/* parse_action - one entry of actions: */
+static int parse_action(struct parse *p, yaml_node_t *map, struct action *a, int idx)
+{
+	__u32 set = 0, kinds = 0;
+	size_t i;
+
+	memset(a, 0, sizeof(*a));
+	a->line = map->start_mark.line + 1;
+	snprintf(p->where, sizeof(p->where), "action %d", idx + 1);
+	if (parse_group(p, action_f, map, a, &set, "", "key", NULL))
+		return -1;
+	if (!(set & AF_LEVEL))
+		return fail(p, map, "action %d has no level", idx + 1);
+	for (i = 0; i < sizeof(action_kinds) / sizeof(action_kinds[0]); i++) {
+		if (set & action_kinds[i].flag) {
+			a->kind = action_kinds[i].kind;
+			kinds++;
+		}
+	}
+	if (kinds != 1)
+		return fail(p, map, "action %d: give one of run, signal, fifo or unix", idx + 1);
+	if ((set & AF_PID) && a->kind != ACTION_SIGNAL)
+		return fail(p, map, "action %d: pid goes with signal only", idx + 1);
+	if ((set & AF_PID) && (!a->pid || a->pid > INT_MAX))
+		return fail(p, map, "action %d: bad pid %llu (want a process id)", idx + 1,
+			    (unsigned long long)a->pid);
+	return 0;
+}
+
+/* parse_actions - the list under actions: */
+static int parse_actions(struct parse *p, yaml_node_t *seq, struct config *c)
+{
+	int n, i;
+
+	if (want(p, seq, YAML_SEQUENCE_NODE, "actions"))
+		return -1;
+	if (seq->type != YAML_SEQUENCE_NODE)
+		return 0;
+	n = seq->data.sequence.items.top - seq->data.sequence.items.start;
+	if (!n)
+		return 0;
+	if (n > ACTION_MAX)
+		return fail(p, seq, "%d actions (at most %d)", n, ACTION_MAX);
+	c->actions = calloc(ACTION_MAX, sizeof(*c->actions));
+	if (!c->actions)
+		return fail(p, seq, "out of memory");
+	for (i = 0; i < n; i++) {
+		yaml_node_t *map = node(p, seq->data.sequence.items.start[i]);
+
+		c->nactions = i + 1;
+		if (want(p, map, YAML_MAPPING_NODE, "an action"))
+			return -1;
+		if (parse_action(p, map, &c->actions[i], i))
+			return -1;
+	}
+	return 0;
+}
+
+/* parse_top - the document: a map with defaults:, rules:, can: and actions: */
 static int parse_top(struct parse *p, yaml_node_t *top, struct config *c)
 {
 	yaml_node_t *k, *v, *rules = NULL;
@@ -1068,9 +1180,12 @@ static int parse_top(struct parse *p, yaml_node_t *top, struct config *c)
 		} else if (!strcmp(text(k), "can")) {
 			if (parse_can(p, v, c))
 				return -1;
+		} else if (!strcmp(text(k), "actions")) {
+			if (parse_actions(p, v, c))
+				return -1;
 		} else {
 			return fail(p, k, "unknown key '%s' at top level (want defaults, "
-				    "rules or can)", text(k));
+				    "rules, can or actions)", text(k));
 		}
 	}
 	/* rules copy the defaults, so they come after them whatever the order */
@@ -1485,6 +1600,15 @@ static void fmt_value(char *buf, size_t len, const struct field *f, const void *
 		i = *(const int *)src;
 		snprintf(buf, len, "%s", i == RTSUP_CAN_RX ? "rx" : i == RTSUP_CAN_TX ? "tx" : "any");
 		break;
+	case F_LEVEL:
+		snprintf(buf, len, "%s", level_name(*(const enum level *)src));
+		break;
+	case F_WHEN:
+		snprintf(buf, len, "%s", *(const bool *)src ? "leave" : "enter");
+		break;
+	case F_SIGNAL:
+		snprintf(buf, len, "%s", signal_name(*(const int *)src));
+		break;
 	default:
 		buf[0] = '\0';
 	}
@@ -1627,6 +1751,54 @@ static void print_can(FILE *out, const struct can_config *cc)
 		print_node(out, &cc->nodes[i]);
 }
 
+/* print_actions - the actions: section; of run, signal, fifo, unix only its own */
+static void print_actions(FILE *out, const struct config *c)
+{
+	const struct field *f;
+	char val[4 * ACTION_ARG_LEN + 3];
+	size_t k;
+	int i;
+
+	if (!c->nactions) {
+		fprintf(out, "actions: []\n");
+		return;
+	}
+	fprintf(out, "actions:\n");
+	for (i = 0; i < c->nactions; i++) {
+		const struct action *a = &c->actions[i];
+		bool first = true;
+
+		for (f = action_f; f->key; f++) {
+			bool skip = false;
+
+			for (k = 0; k < sizeof(action_kinds) / sizeof(action_kinds[0]); k++)
+				if (f->flag == action_kinds[k].flag && a->kind != action_kinds[k].kind)
+					skip = true;
+			if (skip || (f->flag == AF_PID && a->kind != ACTION_SIGNAL))
+				continue;
+			fmt_value(val, sizeof(val), f, a);
+			if (f->flag == AF_PID && !a->pid)
+				fprintf(out, "    # pid: 0  (the component's process)\n");
+			else
+				fprintf(out, "%s%s: %s\n", first ? "  - " : "    ", f->key, val);
+			first = false;
+		}
+	}
+}
+
+int config_add_action(struct config *c, const struct action *a)
+{
+	if (c->nactions == ACTION_MAX)
+		return -1;
+	if (!c->actions) {
+		c->actions = calloc(ACTION_MAX, sizeof(*c->actions));
+		if (!c->actions)
+			return -1;
+	}
+	c->actions[c->nactions++] = *a;
+	return 0;
+}
+
 void config_print(const struct config *c, FILE *out)
 {
 	int i;
@@ -1648,6 +1820,7 @@ void config_print(const struct config *c, FILE *out)
 		}
 	}
 	print_can(out, &c->can);
+	print_actions(out, c);
 }
 
 void config_free(struct config *c)
@@ -1658,4 +1831,7 @@ void config_free(struct config *c)
 	free(c->can.nodes);
 	c->can.nodes = NULL;
 	c->can.nnodes = 0;
+	free(c->actions);
+	c->actions = NULL;
+	c->nactions = 0;
 }

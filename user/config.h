@@ -11,6 +11,7 @@
 #include <stdbool.h>
 #include <stdio.h>
 #include <linux/types.h>
+#include "actionspec.h"
 #include "rtsup.h"
 
 #define CONFIG_MAX_SYSCALLS	16
@@ -122,6 +123,8 @@ struct config {
 	struct rule *rules;
 	int nrules;
 	struct can_config can;
+	struct action *actions;		/* actions: then --on-level, in that order */
+	int nactions;
 };
 
 /* config_defaults - the built-in configuration (no file) */
@@ -142,6 +145,8 @@ int config_match(const struct config *c, const char *process, const char *thread
  * its index or -1; id is the counted identifier (EFF flag for 29-bit ids)
  */
 int config_can_node(const struct config *c, const char *iface, __u32 id, int dir);
+/* config_add_action - append an action (--on-level); -1 when ACTION_MAX are there */
+int config_add_action(struct config *c, const struct action *a);
 /* config_print - the effective configuration, in the file's YAML form */
 void config_print(const struct config *c, FILE *out);
 void config_free(struct config *c);

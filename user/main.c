@@ -14,6 +14,7 @@
 #include <unistd.h>
 #include <sys/wait.h>
 #include <bpf/libbpf.h>
+#include "actions.h"
 #include "cancollect.h"
 #include "canreplay.h"
 #include "collector.h"
@@ -99,6 +100,18 @@ static int load_config(const struct options *o, const char *path, struct config 
 			r->ewma_weight = (double)o->ewma_w / RTSUP_EWMA_ONE;
 		if (o->period_given && (i < 0 || !(r->set & RF_PERIOD)))
 			r->period_ns = o->period_ns;
+	}
+	/* --on-level adds to the file's actions: (cli.c checked each) */
+	for (i = 0; i < o->non_level; i++) {
+		struct action a;
+		char why[160] = "too many actions with the file's (at most 16)";
+
+		if (action_parse(o->on_level[i], &a, why, sizeof(why)) ||
+		    config_add_action(cfg, &a)) {
+			fprintf(stderr, "rtsup-trace: --on-level '%s': %s\n", o->on_level[i], why);
+			config_free(cfg);
+			return -1;
+		}
 	}
 	return 0;
 }
@@ -243,6 +256,7 @@ static int run_live(struct options *o, struct supervisor *s)
 	struct robot rb;
 	struct self_in self;
 	struct can_model cm;
+	struct actions act;
 	__u64 start, next, last, now, end = 0, last_drops = 0;
 	struct overhead ov = { .rt0 = -1, .pct = -1 };
 	pid_t child = -1;
@@ -257,6 +271,7 @@ static int run_live(struct options *o, struct supervisor *s)
 	}
 	if (robot_prepare(&rb, o, s) || check_targets(o) || (o->can && can_resolve(o)))
 		return 1;
+	actions_open(&act, s);
 	o->canopen = s->cfg.can.canopen;
 	/* known from the start: a thread's period may settle before its rule is applied */
 	o->warmup_ns = s->cfg.defaults.warmup_ns;
@@ -310,6 +325,7 @@ static int run_live(struct options *o, struct supervisor *s)
 		}
 		if (child > 0 && waitpid(child, &status, WNOHANG) == child)
 			child_done = true;
+		actions_poll(&act);
 		overhead_close(&ov, &l, now, false);
 		if (now < next && !child_done) {
 			__u64 until = end && end < next ? end : next;
@@ -359,6 +375,7 @@ static int run_live(struct options *o, struct supervisor *s)
 	err = 0;
 	worst = supervise_worst(s, &c.model);
 out:
+	actions_close(&act);
 	robot_stop(&rb);
 	if (s->can) {
 		can_model_free(s->can);

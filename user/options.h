@@ -48,6 +48,8 @@ struct options {
 	unsigned int hist;	/* --hist: bit (1 << RTSUP_M_*) per metric to draw */
 	bool hist_interval;	/* --hist-interval: every interval's too */
 	bool quiet;		/* -q: no progress bar */
+	const char *on_level[16];	/* --on-level SPEC, checked by action_parse */
+	int non_level;
 	bool floor;		/* --floor (hidden): empty programs on the same hooks, for make bench */
 };
 

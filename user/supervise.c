@@ -49,7 +49,8 @@ static void fmt_wall(const struct supervisor *s, __u64 mono, char *buf, size_t l
 
 /* log_change - one line per level change: time, component, old -> new, why */
 static void log_change(struct supervisor *s, const char *comp, enum level from,
-		       enum level to, const struct status *st, __u64 now)
+		       enum level to, const struct status *st, __u64 now,
+		       const struct thread_model *tm)
 {
 	char when[40], msgs[1024], line[1200];
 
@@ -61,6 +62,15 @@ static void log_change(struct supervisor *s, const char *comp, enum level from,
 		s->log(comp, from, to, line);
 	else
 		fprintf(stderr, "rtsup-trace: %s\n", line);
+	if (s->on_change) {
+		struct level_change c = {
+			.component = comp, .from = from, .to = to, .mono_ns = now,
+			.when = when, .st = st,
+			.tid = tm ? tm->tid : 0, .pid = tm ? tm->tgid : 0,
+		};
+
+		s->on_change(s->on_change_ctx, &c);
+	}
 }
 
 /* add_violation - remember a WARN/ERROR verdict for the summary */
@@ -92,10 +102,11 @@ static void add_violation(struct supervisor *s, const char *comp, const struct s
 
 /* judge - a component's new status: log a change, keep violations */
 static void judge(struct supervisor *s, const char *comp, const struct status *old,
-		  const struct status *st, enum level *worst, __u64 now)
+		  const struct status *st, enum level *worst, __u64 now,
+		  const struct thread_model *tm)
 {
 	if (st->level != old->level)
-		log_change(s, comp, old->level, st->level, st, now);
+		log_change(s, comp, old->level, st->level, st, now, tm);
 	/*
 	 * the same complaint interval after interval is one violation, also when
 	 * its numbers grow ("no frame for 30 ms", then "for 40 ms")
@@ -203,12 +214,12 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 		old = tm->st;
 		tm->st = st;
 		component_name(tm, comp, sizeof(comp));
-		judge(s, comp, &old, &st, &tm->worst, now);
+		judge(s, comp, &old, &st, &tm->worst, now, tm);
 	}
 	s->overhead_pct = self->overhead_pct;
 	old = s->self;
 	check_self(self, &s->self);
-	judge(s, "rtsup-trace", &old, &s->self, &s->self_worst, now);
+	judge(s, "rtsup-trace", &old, &s->self, &s->self_worst, now, NULL);
 }
 
 /* can_judge - the CAN model's verdicts through the same log and violations */
@@ -217,7 +228,7 @@ static void can_judge(void *ctx, const char *comp, const struct status *old,
 {
 	struct supervisor *s = ctx;
 
-	judge(s, comp, old, st, worst, s->now);
+	judge(s, comp, old, st, worst, s->now, NULL);
 }
 
 void supervise_can(struct supervisor *s, __u64 now, double interval_s)

@@ -27,6 +27,16 @@ struct violation {
 
 #define SUPERVISE_MAX_VIOLATIONS 1000
 
+/* One level change, for a sink that reacts to it (actions.c). */
+struct level_change {
+	const char *component;
+	enum level from, to;
+	__u64 mono_ns;
+	const char *when;		/* wall-clock time, ISO 8601 UTC */
+	const struct status *st;	/* the new verdict and its messages */
+	__u32 tid, pid;			/* of a thread; 0 for other components */
+};
+
 struct supervisor {
 	struct config cfg;
 	__u32 gen;			/* bumped on every (re)load */
@@ -43,6 +53,9 @@ struct supervisor {
 	double overhead_pct;		/* last sampled BPF overhead, % of a CPU; <0 unknown */
 	/* where level changes go; stderr by default, the journal under systemd */
 	void (*log)(const char *component, enum level from, enum level to, const char *line);
+	/* every level change, after it is logged; NULL = none */
+	void (*on_change)(void *ctx, const struct level_change *c);
+	void *on_change_ctx;
 };
 
 /* supervise_init - take ownership of a loaded configuration */

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sched.h>
+#include <signal.h>
 #include <unistd.h>
 #include <cmocka.h>
 
@@ -46,6 +47,7 @@ static void expect_bad(const char *path, const char *msg)
 	assert_int_equal(c.nrules, 0);
 	assert_null(c.can.nodes);
 	assert_int_equal(c.can.nnodes, 0);
+	assert_null(c.actions);
 	assert_string_equal(c.path, "");
 }
 
@@ -707,6 +709,11 @@ static void round_trip(const char *path)
 		rule_equal(&a.rules[i], &b.rules[i]);
 	}
 	can_equal(&a.can, &b.can);
+	assert_int_equal(a.nactions, b.nactions);
+	for (i = 0; i < a.nactions; i++) {
+		b.actions[i].line = a.actions[i].line;
+		assert_memory_equal(&a.actions[i], &b.actions[i], sizeof(a.actions[i]));
+	}
 	/* and printing again gives the same text */
 	print_file(&b, p2, sizeof(p2));
 	snprintf(first, sizeof(first), "%s", slurp(p1));
@@ -727,7 +734,66 @@ static void test_config_round_trip(void **state)
 	round_trip(DIR "can-merge.yaml");
 	round_trip(DIR "can-match.yaml");
 	round_trip(DIR "can-empty.yaml");
+	round_trip(DIR "actions-full.yaml");
 	round_trip("examples/rtsup-1khz.yaml");
+}
+
+/* actions: every kind, enter and leave, the pid of a signal or none */
+static void test_config_actions(void **state)
+{
+	struct config c;
+	const struct action *a;
+
+	load_ok(DIR "actions-full.yaml", &c);
+	assert_int_equal(c.nactions, 5);
+	a = c.actions;
+	assert_int_equal(a[0].level, LEVEL_ERROR);
+	assert_false(a[0].leave);
+	assert_int_equal(a[0].kind, ACTION_RUN);
+	assert_string_equal(a[0].arg,
+			    "logger -t rtsup \"$RTSUP_COMPONENT $RTSUP_FROM -> $RTSUP_LEVEL\"");
+	assert_int_equal(a[0].line, 3);
+	assert_int_equal(a[1].level, LEVEL_WARN);
+	assert_true(a[1].leave);
+	assert_int_equal(a[1].kind, ACTION_SIGNAL);
+	assert_int_equal(a[1].sig, SIGUSR1);
+	assert_int_equal(a[1].pid, 0);
+	assert_int_equal(a[2].kind, ACTION_SIGNAL);
+	assert_int_equal(a[2].sig, SIGTERM);
+	assert_int_equal(a[2].pid, 4321);
+	assert_int_equal(a[3].kind, ACTION_FIFO);
+	assert_false(a[3].leave);
+	assert_string_equal(a[3].arg, "/run/rtsup/alarm.fifo");
+	assert_int_equal(a[4].level, LEVEL_STALE);
+	assert_int_equal(a[4].kind, ACTION_UNIX);
+	assert_string_equal(a[4].arg, "/run/rtsup/alarm.sock");
+	config_free(&c);
+	/* none by default */
+	config_defaults(&c);
+	assert_int_equal(c.nactions, 0);
+	assert_null(c.actions);
+}
+
+/* --on-level adds after the file's actions, up to ACTION_MAX in all */
+static void test_config_add_action(void **state)
+{
+	struct config c;
+	struct action x = { .level = LEVEL_WARN, .kind = ACTION_RUN, .arg = "true" };
+	int i;
+
+	load_ok(DIR "actions-full.yaml", &c);
+	for (i = 5; i < ACTION_MAX; i++)
+		assert_int_equal(config_add_action(&c, &x), 0);
+	assert_int_equal(c.nactions, ACTION_MAX);
+	assert_string_equal(c.actions[ACTION_MAX - 1].arg, "true");
+	assert_int_equal(c.actions[0].kind, ACTION_RUN);
+	assert_int_equal(config_add_action(&c, &x), -1);
+	assert_int_equal(c.nactions, ACTION_MAX);
+	config_free(&c);
+	config_defaults(&c);
+	assert_int_equal(config_add_action(&c, &x), 0);
+	assert_int_equal(c.nactions, 1);
+	config_free(&c);
 }
 
 /* numbers that %g would shorten must still read back exactly */
@@ -878,7 +944,22 @@ BAD(utf8, "bad-utf8.yaml", "2:13: invalid leading UTF-8 octet")
 BAD(two_docs, "bad-two-docs.yaml", "2:1: more than one YAML document")
 BAD(unknown_key, "bad-unknown-key.yaml", "3:5: unknown key 'perod' in rule 'controller'")
 BAD(unknown_top, "bad-unknown-top.yaml",
-    "1:1: unknown key 'default' at top level (want defaults, rules or can)")
+    "1:1: unknown key 'default' at top level (want defaults, rules, can or actions)")
+BAD(action_two_kinds, "bad-action-two-kinds.yaml",
+    "2:5: action 1: give one of run, signal, fifo or unix")
+BAD(action_no_kind, "bad-action-no-kind.yaml",
+    "2:5: action 1: give one of run, signal, fifo or unix")
+BAD(action_no_level, "bad-action-no-level.yaml", "2:5: action 1 has no level")
+BAD(action_pid_no_signal, "bad-action-pid-no-signal.yaml",
+    "2:5: action 1: pid goes with signal only")
+BAD(action_signal, "bad-action-signal.yaml",
+    "3:13: unknown signal 'USR7' (want e.g. USR1, TERM or 10)")
+BAD(action_when, "bad-action-when.yaml", "3:11: unknown when 'later' (want enter or leave)")
+BAD(action_level, "bad-action-level.yaml",
+    "2:12: unknown level 'FATAL' (want OK, WARN, ERROR or STALE)")
+BAD(action_unknown_key, "bad-action-unknown-key.yaml",
+    "3:5: unknown key 'command' in action 1 (want level, when, run, signal, pid, fifo or unix)")
+BAD(action_not_list, "bad-action-not-list.yaml", "2:3: actions must be a list, not a map")
 BAD(unknown_nested, "bad-unknown-nested.yaml",
     "3:30: unknown key 'max_warm' in thresholds.latency of defaults")
 BAD(unknown_match, "bad-unknown-match.yaml", "3:13: unknown key 'user' in match of rule 'x'")
@@ -1075,6 +1156,17 @@ int main(void)
 		T(bad_can_iface_name),
 		T(bad_can_dup_key),
 		T(bad_can_group_empty),
+		T(actions),
+		T(add_action),
+		T(bad_action_two_kinds),
+		T(bad_action_no_kind),
+		T(bad_action_no_level),
+		T(bad_action_pid_no_signal),
+		T(bad_action_signal),
+		T(bad_action_when),
+		T(bad_action_level),
+		T(bad_action_unknown_key),
+		T(bad_action_not_list),
 	};
 
 	return cmocka_run_group_tests_name("config", tests, NULL, NULL);
