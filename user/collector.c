@@ -395,13 +395,13 @@ int collector_sample(struct collector *c)
 {
 	int i, err;
 
-	/* what came in the interval, in time order, floods folded */
-	eventlog_finish(&c->events);
 	/* new interval: the kernel writes the other min/max bank from now on */
 	c->bank = c->skel->bss->epoch & 1;
 	c->skel->bss->epoch++;
 	update_clocks(c);
 	collector_poll(c, 0);
+	/* what came in the interval (the poll above was its last), in time order */
+	eventlog_finish(&c->events);
 	/* a thread not in the map any more (reaped) had an empty interval */
 	for (i = 0; i < c->model.n; i++) {
 		c->model.t[i].seen = false;

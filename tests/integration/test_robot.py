@@ -250,7 +250,7 @@ def test_service_under_systemd_in_vm():
                 pytest.fail(msg)
             pytest.skip(msg)
     out = ROOT / "build" / "vm-systemd"
-    r = subprocess.run([str(vmtest), "run", "--timeout", "500", "--",
+    r = subprocess.run([str(vmtest), "run", "--init", "--timeout", "500", "--",
                         str(ROOT / "tests" / "integration" / "vm" / "systemd-boot")],
                        capture_output=True, text=True, timeout=900)
     log = (out / "check.log").read_text() if (out / "check.log").exists() else ""
