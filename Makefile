@@ -39,7 +39,7 @@ UNIT_BINS := $(patsubst tests/unit/%.c,$(OUT)/tests/%,$(UNIT_SRCS))
 .SECONDARY:
 
 all: $(OUT)/rtsup-trace $(OUT)/rtsup-loadgen $(OUT)/rtsup-cansim $(OUT)/rtsup-noise \
-     $(OUT)/progs/usleep_loop $(OUT)/progs/timerfd_loop
+     $(OUT)/progs/usleep_loop $(OUT)/progs/timerfd_loop $(OUT)/progs32/abi32_loop
 
 $(OUT) $(OUT)/user $(OUT)/tests:
 	$(Q)mkdir -p $@
@@ -108,6 +108,12 @@ $(OUT)/progs/%: tests/integration/progs/%.c
 	@mkdir -p $(@D)
 	$(call msg,CC,$@)
 	$(Q)$(CC) $(CFLAGS) $(WARN) $< -o $@
+
+# The same, built for the 32-bit ABI (gcc-multilib): other syscall numbers.
+$(OUT)/progs32/%: tests/integration/progs/%.c
+	@mkdir -p $(@D)
+	$(call msg,CC-32,$@)
+	$(Q)$(CC) -m32 $(CFLAGS) $(WARN) $< -o $@
 
 # Unit tests: plain C from include/ and user/, no kernel, no root.
 UNIT_DEPS_test_model  := user/model.c

@@ -501,6 +501,23 @@ static __always_inline void running(struct rtsup_thread *t, __u64 now, const int
 	cycle_running(t, now, TREAD(btf, task, min_flt), TREAD(btf, task, maj_flt));
 }
 
+/*
+ * compat_syscall - is the syscall being entered a 32-bit one (ia32 on
+ * x86_64, arm32 on arm64)? Its numbers are another table's: classified with
+ * ours, clock_nanosleep would be readlinkat. Such syscalls are counted, not
+ * classified (docs/cycle-model.md).
+ */
+static __always_inline int compat_syscall(struct task_struct *task, const int btf)
+{
+#if defined(__TARGET_ARCH_x86)
+	return (TREAD(btf, task, thread_info.status) & 0x0002) != 0;	/* TS_COMPAT */
+#elif defined(__TARGET_ARCH_arm64)
+	return (TREAD(btf, task, thread_info.flags) & (1UL << 22)) != 0;	/* TIF_32BIT */
+#else
+	return 0;
+#endif
+}
+
 /* on_sys_enter - cycle delimiter or a syscall inside a cycle */
 static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int btf)
 {
@@ -526,6 +543,10 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 	if (!cls)
 		return 0;
 	task = CURRENT(btf);
+	if (compat_syscall(task, btf)) {
+		t->compat_sys++;
+		return 0;
+	}
 	tc = thread_cfg_of(tid);
 	if (tc && tc->ndelims)
 		delim = in_list(tc->delims, tc->ndelims, RTSUP_CFG_DELIMS, nr);

@@ -197,6 +197,17 @@ static void check_exceptions(const struct check_in *in, struct status *s)
 		status_add(s, LEVEL_STALE, "exited");
 }
 
+/* check_abi - a 32-bit program's syscalls are not classified: say so, never misjudge */
+static void check_abi(const struct check_in *in, struct status *s)
+{
+	if (in->compat_sys) {
+		status_add(s, LEVEL_WARN, "32-bit program: %llu syscalls not classified "
+			   "(not supported; cycles from activations)",
+			   (unsigned long long)in->compat_sys);
+		status_count(s, "compat_syscalls", in->compat_sys);
+	}
+}
+
 /* check_sched - policy and priority as the configuration expects */
 static void check_sched(const struct check_in *in, struct status *s)
 {
@@ -228,6 +239,8 @@ void check_thread(const struct check_in *in, struct status *out)
 	check_exceptions(in, out);
 	status_check(out, CHECK_SCHED);
 	check_sched(in, out);
+	status_check(out, CHECK_ABI);
+	check_abi(in, out);
 	status_check(out, CHECK_INIT);
 	check_init(in, out);
 	status_check(out, CHECK_STARVATION);

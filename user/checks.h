@@ -16,6 +16,7 @@
 /* Check names: what each message of a verdict says it came from (docs/json.md). */
 #define CHECK_EXCEPTION		"exception"
 #define CHECK_SCHED		"scheduling"
+#define CHECK_ABI		"abi"
 #define CHECK_INIT		"initialization"
 #define CHECK_STARVATION	"starvation"
 #define CHECK_MISS		"deadline_miss"
@@ -44,6 +45,7 @@ struct check_in {
 	bool exit_expected;		/* a normal end (the supervised command ended) */
 	int exit_code;			/* task exit code: signal in bits 0-6, status in 8-15 */
 	bool exit_mid_cycle;
+	__u64 compat_sys;		/* 32-bit syscalls seen: not classified */
 	__u32 restarted_from;		/* tid of the dead instance it replaces, 0 = none */
 	const char *unsafe_names;	/* unsafe syscalls of the window, e.g. "mmap 1, munmap 1" */
 };

@@ -222,6 +222,7 @@ static void span_counters(const struct rtsup_thread *c, const struct rtsup_threa
 	s->vol_cs = c->vol_cs - p->vol_cs;
 	s->invol_cs = c->invol_cs - p->invol_cs;
 	s->unseen_in = c->unseen_in - p->unseen_in;
+	s->compat_sys = c->compat_sys - p->compat_sys;
 	s->migrations = c->migrations - p->migrations;
 	s->syscalls = c->syscalls - p->syscalls;
 	s->signals = c->signals - p->signals;

@@ -42,6 +42,7 @@ struct span_view {
 	__u64 vol_cs;
 	__u64 invol_cs;
 	__u64 unseen_in;	/* activations whose switch-in no hook saw */
+	__u64 compat_sys;	/* 32-bit syscalls, not classified */
 	__u64 migrations;
 	__u64 syscalls;
 	__u64 signals;

@@ -91,6 +91,7 @@ static json_t *json_span(const struct span_view *s, const struct thread_model *t
 				      "major", (json_int_t)s->majflt));
 	json_object_set_new(o, "migrations", json_integer(s->migrations));
 	json_object_set_new(o, "syscalls", json_integer(s->syscalls));
+	json_object_set_new(o, "compat_syscalls", json_integer(s->compat_sys));
 	json_object_set_new(o, "signals", json_integer(s->signals));
 	return o;
 }

@@ -208,6 +208,7 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 		in.exit_expected = s->cmd_mode;
 		in.exit_code = tm->cur.exit_code;
 		in.exit_mid_cycle = tm->cur.exit_mid_cycle;
+		in.compat_sys = tm->cur.compat_sys;
 		in.restarted_from = tm->restarted_from;
 		in.unsafe_names = names;
 		check_thread(&in, &st);
