@@ -271,5 +271,8 @@ def test_service_under_systemd_in_vm():
                   "watchdog", "target_restart", "reload", "stop", "detached"):
         assert res.get(check) == "1", "%s failed:\n%s" % (check, log)
     assert res["capabilities"] == "000000c000000000"  # CAP_BPF and CAP_PERFMON only
-    assert float(res["stop_s"]) < 1.0
-    assert r.returncode == 0, log
+    # a second of host time, scaled by the emulation's measured slowness (systemd-check)
+    assert float(res["stop_s"]) < float(res["stop_bound_s"]), res
+    assert res["failed"] == 0, log
+    # systemd was the guest's init (vm-test --init): it powered off, no exit status
+    assert r.returncode == 125 and "without an exit status" in r.stderr, r.stderr[-2000:]
