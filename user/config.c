@@ -1001,18 +1001,24 @@ static int parse_rule(struct parse *p, yaml_node_t *map, struct config *c, int i
 	return conflicts(p, map, r);
 }
 
+/* list_items - items of the list under 'what': 0 when empty or null, -1 if no list */
+static int list_items(struct parse *p, yaml_node_t *seq, const char *what)
+{
+	if (want(p, seq, YAML_SEQUENCE_NODE, what))
+		return -1;
+	if (seq->type != YAML_SEQUENCE_NODE)
+		return 0;
+	return seq->data.sequence.items.top - seq->data.sequence.items.start;
+}
+
 /* parse_rules - the list under rules: */
 static int parse_rules(struct parse *p, yaml_node_t *seq, struct config *c)
 {
 	int n, i;
 
-	if (want(p, seq, YAML_SEQUENCE_NODE, "rules"))
-		return -1;
-	if (seq->type != YAML_SEQUENCE_NODE)
-		return 0;
-	n = seq->data.sequence.items.top - seq->data.sequence.items.start;
-	if (!n)
-		return 0;
+	n = list_items(p, seq, "rules");
+	if (n <= 0)
+		return n;
 	c->rules = calloc(n, sizeof(*c->rules));
 	if (!c->rules)
 		return fail(p, seq, "out of memory");
@@ -1071,13 +1077,9 @@ static int parse_nodes(struct parse *p, yaml_node_t *seq, struct can_config *cc)
 {
 	int n, i;
 
-	if (want(p, seq, YAML_SEQUENCE_NODE, "can.nodes"))
-		return -1;
-	if (seq->type != YAML_SEQUENCE_NODE)
-		return 0;
-	n = seq->data.sequence.items.top - seq->data.sequence.items.start;
-	if (!n)
-		return 0;
+	n = list_items(p, seq, "can.nodes");
+	if (n <= 0)
+		return n;
 	cc->nodes = calloc(n, sizeof(*cc->nodes));
 	if (!cc->nodes)
 		return fail(p, seq, "out of memory");
@@ -1135,13 +1137,9 @@ static int parse_actions(struct parse *p, yaml_node_t *seq, struct config *c)
 {
 	int n, i;
 
-	if (want(p, seq, YAML_SEQUENCE_NODE, "actions"))
-		return -1;
-	if (seq->type != YAML_SEQUENCE_NODE)
-		return 0;
-	n = seq->data.sequence.items.top - seq->data.sequence.items.start;
-	if (!n)
-		return 0;
+	n = list_items(p, seq, "actions");
+	if (n <= 0)
+		return n;
 	if (n > ACTION_MAX)
 		return fail(p, seq, "%d actions (at most %d)", n, ACTION_MAX);
 	c->actions = calloc(ACTION_MAX, sizeof(*c->actions));
