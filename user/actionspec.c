@@ -8,6 +8,7 @@
 #include <string.h>
 #include <strings.h>
 #include "actionspec.h"
+#include "strict.h"
 
 /* what a Unix socket's address holds (sizeof(sockaddr_un.sun_path)) */
 #define UNIX_PATH_LEN	108
@@ -39,14 +40,9 @@ int level_parse(const char *s)
 /* parse_int - strict whole number in [min, max], -1 if not */
 static long parse_int(const char *s, long min, long max)
 {
-	char *end;
 	long v;
 
-	errno = 0;
-	v = strtol(s, &end, 10);
-	if (errno || end == s || *end || v < min || v > max)
-		return -1;
-	return v;
+	return strict_long(s, min, max, &v) ? -1 : v;
 }
 
 int signal_parse(const char *s)

@@ -9,6 +9,7 @@
 #include <string.h>
 #include "actionspec.h"
 #include "options.h"
+#include "strict.h"
 #include "rtsup.h"
 #include "status.h"
 
@@ -148,20 +149,6 @@ static int hist_metric(const char *name)
 	return -1;
 }
 
-/* parse_long - strict whole number in [min, max] */
-static int parse_long(const char *s, long min, long max, long *out)
-{
-	char *end;
-	long v;
-
-	errno = 0;
-	v = strtol(s, &end, 10);
-	if (errno || end == s || *end || v < min || v > max)
-		return -1;
-	*out = v;
-	return 0;
-}
-
 /* bad - one-line error about an option value */
 static int bad(struct argp_state *st, const char *opt, const char *arg, const char *why)
 {
@@ -180,14 +167,14 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 
 	switch (key) {
 	case 'p':
-		if (parse_long(arg, 1, INT_MAX, &v))
+		if (strict_long(arg, 1, INT_MAX, &v))
 			return bad(st, "--pid", arg, "not a process id");
 		if (t->npids == TARGETS_MAX)
 			return bad(st, "--pid", arg, "too many");
 		t->pids[t->npids++] = v;
 		break;
 	case 't':
-		if (parse_long(arg, 1, INT_MAX, &v))
+		if (strict_long(arg, 1, INT_MAX, &v))
 			return bad(st, "--tid", arg, "not a thread id");
 		if (t->ntids == TARGETS_MAX)
 			return bad(st, "--tid", arg, "too many");
@@ -254,7 +241,7 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 		o->period_ns = (__u64)(d * 1e9 + 0.5);
 		break;
 	case OPT_MAX_THREADS:
-		if (parse_long(arg, 1, 1 << 20, &v))
+		if (strict_long(arg, 1, 1 << 20, &v))
 			return bad(st, "--max-threads", arg, "want a number from 1 to 1048576");
 		o->max_threads = v;
 		break;
@@ -319,12 +306,12 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 		o->can_ifs[o->ncan++] = arg;
 		break;
 	case OPT_BITRATE:
-		if (parse_long(arg, 1000, 20000000, &v))
+		if (strict_long(arg, 1000, 20000000, &v))
 			return bad(st, "--bitrate", arg, "want bits per second, 1000 to 20000000");
 		o->can_bitrate = v;
 		break;
 	case OPT_CAN_MAX_IDS:
-		if (parse_long(arg, 16, 1 << 20, &v))
+		if (strict_long(arg, 16, 1 << 20, &v))
 			return bad(st, "--can-max-ids", arg, "want a number from 16 to 1048576");
 		o->can_max_ids = v;
 		break;

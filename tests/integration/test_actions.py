@@ -14,20 +14,13 @@ import time
 
 import pytest
 
-from conftest import LOADGEN, TRACE, Trace, unique_prefix
+from conftest import CLEAN_DEFAULTS, LOADGEN, TRACE, Trace, unique_prefix
 
 pytestmark = pytest.mark.usefixtures("bpf")
 
 # as test_status.py: strict on RT-unsafe events, tolerant of timing on a
 # loaded machine (a timing WARN may come and go; it is a level change too)
-CLEAN = """
-defaults:
-  thresholds:
-    deadline_miss: {warn: 50, error_rate: 100%}
-    exec_near_period: {warn: 1000%}
-    starvation: {warn_periods: 0, error_periods: 0}
-    overhead: {warn: 0%, error: 0%}
-rules:
+CLEAN = CLEAN_DEFAULTS + """rules:
   - name: loop
     match: {thread: "PREFIX-*"}
     period: 1ms

@@ -7,7 +7,7 @@ import time
 
 import pytest
 
-from conftest import LOADGEN, ROOT, TRACE, Loadgen, Trace, threads_by_tid, unique_prefix
+from conftest import CLEAN_DEFAULTS, LOADGEN, ROOT, TRACE, Loadgen, Trace, threads_by_tid, unique_prefix
 
 pytestmark = pytest.mark.usefixtures("bpf")
 
@@ -16,14 +16,7 @@ pytestmark = pytest.mark.usefixtures("bpf")
 # may make a timing check WARN (TIMING_CHECKS); none of them can reach ERROR
 # here, and the tests judge the other checks by name (each violation lists its
 # checks: check, level, text, counts), never by the first message's wording.
-CLEAN = """
-defaults:
-  thresholds:
-    deadline_miss: {warn: 50, error_rate: 100%}
-    exec_near_period: {warn: 1000%}
-    starvation: {warn_periods: 0, error_periods: 0}
-    overhead: {warn: 0%, error: 0%}
-rules:
+CLEAN = CLEAN_DEFAULTS + """rules:
   - name: loop
     match: {thread: "PREFIX-*"}
     period: 1ms
