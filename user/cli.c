@@ -370,6 +370,11 @@ static int join_can_arg(int argc, char **argv)
 
 int options_parse(int argc, char **argv, struct options *o)
 {
+	return options_parse_flags(argc, argv, o, 0);
+}
+
+int options_parse_flags(int argc, char **argv, struct options *o, unsigned int flags)
+{
 	static const struct argp argp = { opts, parse_opt, NULL, doc, NULL, NULL, NULL };
 
 	memset(o, 0, sizeof(*o));
@@ -391,8 +396,8 @@ int options_parse(int argc, char **argv, struct options *o)
 		else
 			o->can_replay_path = "";
 		argv[1] = argv[0];
-		return argp_parse(&argp, argc - 1, argv + 1, 0, NULL, o) ? -1 : 0;
+		return argp_parse(&argp, argc - 1, argv + 1, flags, NULL, o) ? -1 : 0;
 	}
 	argc = join_can_arg(argc, argv);
-	return argp_parse(&argp, argc, argv, 0, NULL, o) ? -1 : 0;
+	return argp_parse(&argp, argc, argv, flags, NULL, o) ? -1 : 0;
 }

@@ -16,9 +16,11 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-TRACE = ROOT / "build" / "rtsup-trace"
-LOADGEN = ROOT / "build" / "rtsup-loadgen"
-NOISE = ROOT / "build" / "rtsup-noise"
+# RTSUP_BUILD: another build directory, e.g. make sanitize's build-san
+BUILD = ROOT / os.environ.get("RTSUP_BUILD", "build")
+TRACE = BUILD / "rtsup-trace"
+LOADGEN = BUILD / "rtsup-loadgen"
+NOISE = BUILD / "rtsup-noise"
 IN_CI = os.environ.get("CI", "").lower() in ("1", "true", "yes")
 # Inside a qemu TCG guest (tests/integration/test_guest.py) time is slow and
 # noisy: tests keep their count assertions and relax the timing ones.
