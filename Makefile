@@ -144,8 +144,8 @@ test-noisy: all
 		--ignore=tests/integration/test_cansim.py \
 		-k "not test_service_under_systemd_in_vm"
 
-# What CI runs: every test, unit and integration.
-test: unit fuzz-regress integration
+# What CI runs: every test: unit, fuzz regressions, sanitizers, integration.
+test: unit fuzz-regress sanitize integration
 
 # Fuzz targets (tests/fuzz, docs/reliability.md): libFuzzer with ASan and
 # UBSan, every userspace module but main.c linked into each target.
@@ -212,11 +212,22 @@ SAN_TESTS  ?= tests/integration/test_trace.py::test_clean_load_period_and_cycles
 	tests/integration/test_status.py::test_perfetto_export_is_valid \
 	tests/integration/test_status.py::test_check_config \
 	tests/integration/test_status.py::test_can_replay_clock_step_finishes
-sanitize:
+# Every report goes to $(SAN_OUT)/san-report.PID: any such file fails the run,
+# whatever exit code the test saw. The integration subset runs the sanitized
+# rtsup-trace against the shipped generators (RTSUP_TRACE): ASan's shadow
+# memory faults would break the generator's own truth; the sanitized
+# generators run once each on their own.
+SAN_ENV := ASAN_OPTIONS=detect_leaks=1:log_path=$(CURDIR)/$(SAN_OUT)/san-report \
+	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:log_path=$(CURDIR)/$(SAN_OUT)/san-report
+sanitize: all
 	$(Q)$(MAKE) --no-print-directory OUT=$(SAN_OUT) CFLAGS="$(SAN_CFLAGS)" all unit
-	$(Q)RTSUP_BUILD=$(SAN_OUT) ASAN_OPTIONS=abort_on_error=0:detect_leaks=1 \
-		UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-		$(PYTHON) -m pytest -v -rs $(SAN_TESTS)
+	$(Q)rm -f $(SAN_OUT)/san-report.*
+	$(Q)$(SAN_ENV) $(SAN_OUT)/rtsup-loadgen -n 2 -c 300 -f overrun@20 -f mmap/50 \
+		-f pagefault:2@30 -f block@40 -f exit@250,thread=1 -s /dev/null
+	$(Q)$(SAN_ENV) $(SAN_OUT)/rtsup-noise gauge -d 0.5s >/dev/null
+	$(Q)RTSUP_TRACE=$(SAN_OUT)/rtsup-trace $(SAN_ENV) $(PYTHON) -m pytest -v -rs $(SAN_TESTS)
+	$(Q)if ls $(SAN_OUT)/san-report.* >/dev/null 2>&1; then \
+		cat $(SAN_OUT)/san-report.*; echo "sanitize: reports above" >&2; exit 1; fi
 
 demo: all
 	$(Q)scripts/demo
