@@ -2,6 +2,7 @@
 /* cli.c - the rtsup-trace command line (argp) */
 #include <argp.h>
 #include <errno.h>
+#include <math.h>
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -96,15 +97,12 @@ static const struct argp_option opts[] = {
 	{},
 };
 
-double parse_duration(const char *s)
-{
-	char *end;
-	double v;
+/* the configuration's bound (about 31 years): a time in ns still fits a __u64 */
+#define MAX_DURATION_S	1e9
 
-	errno = 0;
-	v = strtod(s, &end);
-	if (errno || end == s || v < 0)
-		return -1;
+/* duration_s - the number v with its suffix, in seconds; -1 for an unknown suffix */
+static double duration_s(double v, const char *end)
+{
 	if (!strcmp(end, "") || !strcmp(end, "s"))
 		return v;
 	if (!strcmp(end, "ms"))
@@ -116,6 +114,22 @@ double parse_duration(const char *s)
 	if (!strcmp(end, "h"))
 		return v * 3600;
 	return -1;
+}
+
+double parse_duration(const char *s)
+{
+	char *end;
+	double v;
+
+	errno = 0;
+	v = strtod(s, &end);
+	if (errno || end == s || v < 0)
+		return -1;
+	v = duration_s(v, end);
+	/* nan and inf parse as numbers; a huge --period overflowed its ns (fuzz_options) */
+	if (!isfinite(v) || v > MAX_DURATION_S)
+		return -1;
+	return v;
 }
 
 /* parse_long - strict whole number in [min, max] */
