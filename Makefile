@@ -183,7 +183,7 @@ fuzz: $(FUZZ_BINS)
 			-print_final_stats=1 -artifact_prefix=$(OUT)/fuzz/$$t- \
 			$(OUT)/fuzz/corpus/$$t tests/fuzz/corpus/$$t >$(OUT)/fuzz/fuzz-$$t.log 2>&1; \
 		rc=$$?; \
-		grep -E '^(#[0-9]+ +DONE|stat::(number_of_executed_units|average_exec_per_sec|peak_rss_mb))|ERROR|SUMMARY|Test unit written' \
+		grep -E '^(#[0-9]+[[:space:]]+DONE|stat::(number_of_executed_units|average_exec_per_sec|peak_rss_mb))|ERROR|SUMMARY|Test unit written' \
 			$(OUT)/fuzz/fuzz-$$t.log; \
 		test $$rc = 0 || { tail -60 $(OUT)/fuzz/fuzz-$$t.log; exit 1; }; \
 	done
