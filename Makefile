@@ -33,7 +33,8 @@ USER_OBJS := $(patsubst user/%.c,$(OUT)/user/%.o,$(USER_SRCS))
 UNIT_SRCS := $(wildcard tests/unit/test_*.c)
 UNIT_BINS := $(patsubst tests/unit/%.c,$(OUT)/tests/%,$(UNIT_SRCS))
 
-.PHONY: all clean test unit integration test-noisy deps demo bench format-check install soak
+.PHONY: all clean test unit integration test-noisy deps demo bench format-check install soak \
+	fuzz fuzz-build fuzz-regress sanitize
 .DELETE_ON_ERROR:
 # keep the BPF objects: the skeleton and the benchmark use them
 .SECONDARY:
@@ -162,8 +163,90 @@ test-noisy: all
 		--ignore=tests/integration/test_cansim.py \
 		-k "not test_service_under_systemd_in_vm"
 
-# What CI runs: every test, unit and integration.
-test: unit integration
+# What CI runs: every test: unit, fuzz regressions, sanitizers, integration.
+test: unit fuzz-regress sanitize integration
+
+# Fuzz targets (tests/fuzz, docs/reliability.md): libFuzzer with ASan and
+# UBSan, every userspace module but main.c linked into each target.
+FUZZ_TIME ?= 60
+FUZZ_CC    := $(CLANG)
+FUZZ_SAN   := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+FUZZ_FLAGS := -O1 -g $(FUZZ_SAN) -DFUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
+FUZZ_TARGETS := config record candump options proc
+FUZZ_OBJS := $(patsubst user/%.c,$(OUT)/fuzz/user/%.o,$(filter-out user/main.c,$(USER_SRCS)))
+FUZZ_BINS := $(patsubst %,$(OUT)/fuzz/fuzz_%,$(FUZZ_TARGETS))
+
+$(OUT)/fuzz/user:
+	$(Q)mkdir -p $@
+
+$(FUZZ_OBJS): $(OUT)/rtsup.skel.h $(OUT)/rtsup_empty.skel.h $(OUT)/syscall_table.h
+
+$(OUT)/fuzz/user/%.o: user/%.c | $(OUT)/fuzz/user
+	$(call msg,CC-FUZZ,$@)
+	$(Q)$(FUZZ_CC) $(FUZZ_FLAGS) -fsanitize=fuzzer-no-link $(WARN) $(CPPFLAGS) $(INCLUDES) -c $< -o $@
+
+$(OUT)/fuzz/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz.h $(FUZZ_OBJS)
+	$(call msg,LINK,$@)
+	$(Q)$(FUZZ_CC) $(FUZZ_FLAGS) -fsanitize=fuzzer $(WARN) $(CPPFLAGS) $(INCLUDES) -Iuser \
+		$< $(FUZZ_OBJS) $(USER_LIBS) -lm -o $@
+
+fuzz-build: $(FUZZ_BINS)
+
+# Each target for FUZZ_TIME seconds from its seeds; what it learns stays in
+# $(OUT)/fuzz/corpus, a crash input in $(OUT)/fuzz/ (then: tests/fuzz/regress/).
+fuzz: $(FUZZ_BINS)
+	$(Q)for t in $(FUZZ_TARGETS); do \
+		mkdir -p $(OUT)/fuzz/corpus/$$t tests/fuzz/corpus/$$t; \
+		echo "  FUZZ     $$t ($(FUZZ_TIME) s)"; \
+		$(OUT)/fuzz/fuzz_$$t -max_total_time=$(FUZZ_TIME) -timeout=10 -close_fd_mask=3 \
+			-print_final_stats=1 -artifact_prefix=$(OUT)/fuzz/$$t- \
+			$(OUT)/fuzz/corpus/$$t tests/fuzz/corpus/$$t >$(OUT)/fuzz/fuzz-$$t.log 2>&1; \
+		rc=$$?; \
+		grep -E '^(#[0-9]+[[:space:]]+DONE|stat::(number_of_executed_units|average_exec_per_sec|peak_rss_mb))|ERROR|SUMMARY|Test unit written' \
+			$(OUT)/fuzz/fuzz-$$t.log; \
+		test $$rc = 0 || { tail -60 $(OUT)/fuzz/fuzz-$$t.log; exit 1; }; \
+	done
+
+# Every seed and every input that once crashed, run once through its target.
+fuzz-regress: $(FUZZ_BINS)
+	$(Q)for t in $(FUZZ_TARGETS); do \
+		files=$$(find tests/fuzz/corpus/$$t tests/fuzz/regress/$$t -type f 2>/dev/null); \
+		test -n "$$files" || continue; \
+		echo "  REGRESS  $$t ($$(echo "$$files" | wc -l) inputs)"; \
+		$(OUT)/fuzz/fuzz_$$t -timeout=10 -close_fd_mask=1 $$files >$(OUT)/fuzz/regress-$$t.log 2>&1 || \
+			{ grep -v '^Running\|^Executed' $(OUT)/fuzz/regress-$$t.log | tail -40; exit 1; }; \
+	done
+
+# Userspace and unit tests under ASan+UBSan in their own directory, then a
+# short live-BPF integration subset with those binaries (RTSUP_BUILD).
+SAN_OUT    ?= build-san
+SAN_CFLAGS := -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+SAN_TESTS  ?= tests/integration/test_trace.py::test_clean_load_period_and_cycles \
+	tests/integration/test_trace.py::test_injected_faults_reported_exactly \
+	tests/integration/test_trace.py::test_exit_is_reported_and_tracing_goes_on \
+	tests/integration/test_status.py::test_check_faults_exit_2_with_messages \
+	tests/integration/test_status.py::test_sighup_reload_turns_ok_into_warn \
+	tests/integration/test_status.py::test_record_replay_same_numbers_and_verdicts \
+	tests/integration/test_status.py::test_corrupt_trace_errors_cleanly \
+	tests/integration/test_status.py::test_perfetto_export_is_valid \
+	tests/integration/test_status.py::test_check_config \
+	tests/integration/test_status.py::test_can_replay_clock_step_finishes
+# Every report goes to $(SAN_OUT)/san-report.PID: any such file fails the run,
+# whatever exit code the test saw. The integration subset runs the sanitized
+# rtsup-trace against the shipped generators (RTSUP_TRACE): ASan's shadow
+# memory faults would break the generator's own truth; the sanitized
+# generators run once each on their own.
+SAN_ENV := ASAN_OPTIONS=detect_leaks=1:log_path=$(CURDIR)/$(SAN_OUT)/san-report \
+	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:log_path=$(CURDIR)/$(SAN_OUT)/san-report
+sanitize: all
+	$(Q)$(MAKE) --no-print-directory OUT=$(SAN_OUT) CFLAGS="$(SAN_CFLAGS)" all unit
+	$(Q)rm -f $(SAN_OUT)/san-report.*
+	$(Q)$(SAN_ENV) $(SAN_OUT)/rtsup-loadgen -n 2 -c 300 -f overrun@20 -f mmap/50 \
+		-f pagefault:2@30 -f block@40 -f exit@250,thread=1 -s /dev/null
+	$(Q)$(SAN_ENV) $(SAN_OUT)/rtsup-noise gauge -d 0.5s >/dev/null
+	$(Q)RTSUP_TRACE=$(SAN_OUT)/rtsup-trace $(SAN_ENV) $(PYTHON) -m pytest -v -rs $(SAN_TESTS)
+	$(Q)if ls $(SAN_OUT)/san-report.* >/dev/null 2>&1; then \
+		cat $(SAN_OUT)/san-report.*; echo "sanitize: reports above" >&2; exit 1; fi
 
 demo: all
 	$(Q)scripts/demo
@@ -198,6 +281,6 @@ soak: all
 	$(Q)scripts/soak
 
 clean:
-	$(Q)rm -rf $(OUT)
+	$(Q)rm -rf $(OUT) $(SAN_OUT)
 
 -include $(wildcard $(OUT)/*.d $(OUT)/user/*.d $(OUT)/tests/*.d)

@@ -19,11 +19,18 @@
 RTSUP_INLINE __s64 ewma_update(__s64 ewma, __u64 count, __u64 v, __u32 w)
 {
 	__s64 x = (__s64)(v << RTSUP_EWMA_SHIFT);
+	__s64 step;
 
 	if (count == 0)
 		return x;
-	/* arithmetic shift of a signed product; w <= 1024 keeps it in range */
-	return ewma + (((x - ewma) * (__s64)w) >> 10);
+	/*
+	 * arithmetic shift of a signed product; w <= 1024 keeps it in range
+	 * for any real time. The difference and the product are taken
+	 * unsigned: a value near 2^53 ns (a damaged trace) wraps as the CPU
+	 * does instead of being undefined (UBSan, fuzz_record)
+	 */
+	step = (__s64)(((__u64)x - (__u64)ewma) * w) >> 10;
+	return (__s64)((__u64)ewma + (__u64)step);
 }
 
 /* minmax_reset - empty an interval bank */

@@ -222,6 +222,7 @@ out:
 	if (in)
 		fclose(in);
 	can_model_free(&r.m);
+	collector_free(&r.c);
 	s->can = NULL;
 	return ret;
 }

@@ -2,6 +2,7 @@
 /* cli.c - the rtsup-trace command line (argp) */
 #include <argp.h>
 #include <errno.h>
+#include <math.h>
 #include <limits.h>
 #include <stdbool.h>
 #include <stdio.h>
@@ -112,15 +113,12 @@ static const struct argp_option opts[] = {
 	{},
 };
 
-double parse_duration(const char *s)
-{
-	char *end;
-	double v;
+/* the configuration's bound (about 31 years): a time in ns still fits a __u64 */
+#define MAX_DURATION_S	1e9
 
-	errno = 0;
-	v = strtod(s, &end);
-	if (errno || end == s || v < 0)
-		return -1;
+/* duration_s - the number v with its suffix, in seconds; -1 for an unknown suffix */
+static double duration_s(double v, const char *end)
+{
 	if (!strcmp(end, "") || !strcmp(end, "s"))
 		return v;
 	if (!strcmp(end, "ms"))
@@ -132,6 +130,22 @@ double parse_duration(const char *s)
 	if (!strcmp(end, "h"))
 		return v * 3600;
 	return -1;
+}
+
+double parse_duration(const char *s)
+{
+	char *end;
+	double v;
+
+	errno = 0;
+	v = strtod(s, &end);
+	if (errno || end == s || v < 0)
+		return -1;
+	v = duration_s(v, end);
+	/* nan and inf parse as numbers; a huge --period overflowed its ns (fuzz_options) */
+	if (!isfinite(v) || v > MAX_DURATION_S)
+		return -1;
+	return v;
 }
 
 /* hist_metric - RTSUP_M_* of a --hist name, -1 if none */
@@ -445,6 +459,11 @@ static int join_opt_args(int argc, char **argv)
 
 int options_parse(int argc, char **argv, struct options *o)
 {
+	return options_parse_flags(argc, argv, o, 0);
+}
+
+int options_parse_flags(int argc, char **argv, struct options *o, unsigned int flags)
+{
 	static const struct argp argp = { opts, parse_opt, NULL, doc, NULL, NULL, NULL };
 
 	memset(o, 0, sizeof(*o));
@@ -467,8 +486,8 @@ int options_parse(int argc, char **argv, struct options *o)
 			o->can_replay_path = "";
 		argv[1] = argv[0];
 		argc = join_opt_args(argc - 1, argv + 1) + 1;
-		return argp_parse(&argp, argc - 1, argv + 1, 0, NULL, o) ? -1 : 0;
+		return argp_parse(&argp, argc - 1, argv + 1, flags, NULL, o) ? -1 : 0;
 	}
 	argc = join_opt_args(argc, argv);
-	return argp_parse(&argp, argc, argv, 0, NULL, o) ? -1 : 0;
+	return argp_parse(&argp, argc, argv, flags, NULL, o) ? -1 : 0;
 }

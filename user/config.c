@@ -294,18 +294,41 @@ static const char *const rule_own[] = { "name", "match", NULL };
 static const char *const node_own[] = { "name", NULL };
 static const char *const can_own[] = { "nodes", NULL };
 
+/*
+ * one_line - a message quoting the file's text, with its control bytes
+ * escaped: a YAML scalar may hold a newline (a blank line in a plain
+ * scalar), and the error must stay one line
+ */
+static void one_line(char *dst, size_t len, const char *src)
+{
+	size_t o = 0;
+
+	for (; *src && o + 5 < len; src++) {
+		unsigned char ch = *src;
+
+		if (ch == '\n')
+			o += snprintf(dst + o, len - o, "\\n");
+		else if (ch < 0x20 || ch == 0x7f)
+			o += snprintf(dst + o, len - o, "\\x%02x", ch);
+		else
+			dst[o++] = ch;
+	}
+	dst[o] = '\0';
+}
+
 /* fail - write "file:line:column: message" for a node, return -1 */
 static int __attribute__((format(printf, 3, 4)))
 fail(struct parse *p, const yaml_node_t *n, const char *fmt, ...)
 {
-	char msg[256];
+	char msg[256], line[256];
 	va_list ap;
 
 	va_start(ap, fmt);
 	vsnprintf(msg, sizeof(msg), fmt, ap);
 	va_end(ap);
+	one_line(line, sizeof(line), msg);
 	snprintf(p->err, p->errlen, "%s:%zu:%zu: %s", p->file,
-		 n->start_mark.line + 1, n->start_mark.column + 1, msg);
+		 n->start_mark.line + 1, n->start_mark.column + 1, line);
 	return -1;
 }
 

@@ -164,8 +164,11 @@ void eventlog_finish(struct eventlog *l)
 	for (i = l->nflood; i < l->capfold; i++)
 		memset(&l->fold[i], 0, sizeof(l->fold[i]));
 	l->nfold = 0;
-	qsort(l->ev, l->n, sizeof(*l->ev), by_time);
-	qsort(l->fold, l->nflood, sizeof(*l->fold), by_first);
+	/* qsort wants an array even for none (UBSan: nonnull), and ev is NULL until the first */
+	if (l->n)
+		qsort(l->ev, l->n, sizeof(*l->ev), by_time);
+	if (l->nflood)
+		qsort(l->fold, l->nflood, sizeof(*l->fold), by_first);
 }
 
 void eventlog_clear(struct eventlog *l)

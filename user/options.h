@@ -55,6 +55,11 @@ struct options {
 
 /* options_parse - parse argv; prints a one-line error and returns -1 on error */
 int options_parse(int argc, char **argv, struct options *o);
+/*
+ * options_parse_flags - the same with argp flags: ARGP_NO_EXIT lets the fuzz
+ * target (tests/fuzz) see argp's usage errors as a return, not an exit
+ */
+int options_parse_flags(int argc, char **argv, struct options *o, unsigned int flags);
 
 /* parse_duration - "30s", "5m", "1h", "250ms" or plain seconds; -1 on error */
 double parse_duration(const char *s);

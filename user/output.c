@@ -30,7 +30,8 @@ static bool use_color(const struct options *o)
 /* fmt_time - wall-clock time of a monotonic timestamp, ISO 8601 UTC */
 static void fmt_time(const struct collector *c, __u64 mono, char *buf, size_t len)
 {
-	__s64 real = (__s64)mono + c->real_off;
+	/* unsigned: a damaged trace's times wrap instead of overflowing (fuzz_record) */
+	__s64 real = (__s64)(mono + (__u64)c->real_off);
 	time_t s = real / 1000000000LL;
 	struct tm tm;
 

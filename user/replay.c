@@ -250,6 +250,6 @@ out:
 		ret = 2;
 	free(r.named);
 	rec_free(rd);
-	model_free(&r.c.model);
+	collector_free(&r.c);	/* no ring buffer here: the model and the events */
 	return ret;
 }

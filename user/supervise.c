@@ -37,7 +37,8 @@ void component_name(const struct thread_model *tm, char *buf, size_t len)
 /* fmt_wall - wall-clock time of a monotonic timestamp */
 static void fmt_wall(const struct supervisor *s, __u64 mono, char *buf, size_t len)
 {
-	__s64 real = (__s64)mono + s->real_off;
+	/* unsigned: a damaged trace's times wrap instead of overflowing (fuzz_record) */
+	__s64 real = (__s64)(mono + (__u64)s->real_off);
 	time_t t = real / 1000000000LL;
 	struct tm tm;
 

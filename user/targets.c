@@ -28,25 +28,31 @@ bool process_exists(pid_t pid)
 	return access(path, F_OK) == 0;
 }
 
+int comm_read(FILE *f, char *buf, size_t len)
+{
+	size_t n;
+
+	if (!fgets(buf, len, f))
+		return -EIO;
+	n = strlen(buf);
+	if (n && buf[n - 1] == '\n')
+		buf[n - 1] = '\0';
+	return 0;
+}
+
 int thread_comm(pid_t tgid, pid_t tid, char *buf, size_t len)
 {
 	char path[96];
 	FILE *f;
-	size_t n;
+	int err;
 
 	snprintf(path, sizeof(path), "/proc/%d/task/%d/comm", tgid, tid);
 	f = fopen(path, "re");
 	if (!f)
 		return -errno;
-	if (!fgets(buf, len, f)) {
-		fclose(f);
-		return -EIO;
-	}
+	err = comm_read(f, buf, len);
 	fclose(f);
-	n = strlen(buf);
-	if (n && buf[n - 1] == '\n')
-		buf[n - 1] = '\0';
-	return 0;
+	return err;
 }
 
 unsigned long stat_flags(const char *line)
@@ -96,20 +102,29 @@ bool comm_matches(const struct targets *t, const char *comm)
 	return false;
 }
 
+pid_t status_tgid(FILE *f)
+{
+	char line[128];
+	pid_t tgid = -1;
+
+	while (fgets(line, sizeof(line), f))
+		if (sscanf(line, "Tgid: %d", &tgid) == 1)
+			break;
+	return tgid;
+}
+
 /* tgid_of - the process a thread belongs to, from /proc/<tid>/status */
 static pid_t tgid_of(pid_t tid)
 {
-	char path[64], line[128];
-	pid_t tgid = -1;
+	char path[64];
+	pid_t tgid;
 	FILE *f;
 
 	snprintf(path, sizeof(path), "/proc/%d/status", tid);
 	f = fopen(path, "re");
 	if (!f)
 		return -1;
-	while (fgets(line, sizeof(line), f))
-		if (sscanf(line, "Tgid: %d", &tgid) == 1)
-			break;
+	tgid = status_tgid(f);
 	fclose(f);
 	return tgid;
 }
@@ -177,23 +192,39 @@ static int scan_thread(void *arg, pid_t tgid, pid_t tid)
 	return 0;
 }
 
+int cgroup_threads(FILE *f, int (*fn)(void *, pid_t), void *arg)
+{
+	int tid, err = 0;
+
+	while (!err && fscanf(f, "%d", &tid) == 1)
+		err = fn(arg, tid);
+	return err;
+}
+
+/* cgroup_thread - one thread of the cgroup, if it still exists */
+static int cgroup_thread(void *arg, pid_t tid)
+{
+	struct scan *s = arg;
+	char comm[RTSUP_COMM_LEN];
+	pid_t tgid = tgid_of(tid);
+
+	if (tgid > 0 && !thread_comm(tgid, tid, comm, sizeof(comm)))
+		return s->cb(s->ctx, tgid, tid, comm, false);
+	return 0;
+}
+
 /* scan_cgroup - every thread listed in the cgroup's cgroup.threads */
 static int scan_cgroup(struct scan *s)
 {
-	char path[4096], comm[RTSUP_COMM_LEN];
+	char path[4096];
 	FILE *f;
-	int tid, err = 0;
+	int err;
 
 	snprintf(path, sizeof(path), "%s/cgroup.threads", s->t->cgroup);
 	f = fopen(path, "re");
 	if (!f)
 		return -errno;
-	while (!err && fscanf(f, "%d", &tid) == 1) {
-		pid_t tgid = tgid_of(tid);
-
-		if (tgid > 0 && !thread_comm(tgid, tid, comm, sizeof(comm)))
-			err = s->cb(s->ctx, tgid, tid, comm, false);
-	}
+	err = cgroup_threads(f, cgroup_thread, s);
 	fclose(f);
 	return err;
 }

@@ -4,6 +4,7 @@
 #define RTSUP_TARGETS_H
 
 #include <stdbool.h>
+#include <stdio.h>
 #include <sys/types.h>
 #include "rtsup.h"
 
@@ -39,6 +40,16 @@ int thread_comm(pid_t tgid, pid_t tid, char *buf, size_t len);
 unsigned long stat_flags(const char *line);
 /* thread_is_kernel - is this a kernel thread (PF_KTHREAD)? false if unknown */
 bool thread_is_kernel(pid_t tgid, pid_t tid);
+/*
+ * The /proc and cgroup text, parsed from an open file (the fuzz target
+ * tests/fuzz/fuzz_proc.c feeds them anything):
+ * comm_read - a comm file's first line without its newline, 0 or -EIO
+ */
+int comm_read(FILE *f, char *buf, size_t len);
+/* status_tgid - the Tgid: line of /proc/<tid>/status, -1 when none */
+pid_t status_tgid(FILE *f);
+/* cgroup_threads - fn for each thread id of cgroup.threads until it returns nonzero */
+int cgroup_threads(FILE *f, int (*fn)(void *, pid_t), void *arg);
 /*
  * comm_sanitize - a thread name is any bytes: keep printable ASCII only, so
  * tables stay aligned and JSON stays valid UTF-8

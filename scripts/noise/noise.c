@@ -234,5 +234,6 @@ int main(int argc, char **argv)
 	printf("{\"samples\": %ld, \"cpus\": %d, \"period_us\": %.0f, \"p50_us\": %.1f, "
 	       "\"p99_us\": %.1f, \"max_us\": %.1f}\n", n, ncpu, opt.period / 1e3,
 	       all[n / 2] / 1e3, all[(long)(n * 0.99)] / 1e3, all[n - 1] / 1e3);
+	free(all);
 	return 0;
 }

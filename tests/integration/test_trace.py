@@ -319,6 +319,10 @@ def run_cli(args, **kw):
     (["--tid", "4194000"], "no such thread"),
     (["-p", "1", "-i", "0"], "--interval"),
     (["-p", "1", "-d", "soon"], "--duration"),
+    # fuzz_options: nan and inf are numbers to strtod; a huge period overflowed its ns
+    (["-p", "1", "-i", "nan"], "--interval 'nan'"),
+    (["-p", "1", "-d", "inf"], "--duration 'inf'"),
+    (["-p", "1", "--period", "88888888888888888888888us"], "--period"),
     (["-p", "1", "--cycle-syscall", "frobnicate"], "no such syscall"),
     (["-p", "1", "--ewma-weight", "2"], "--ewma-weight"),
     (["-c", "a-name-longer-than-15"], "1 to 15 characters"),

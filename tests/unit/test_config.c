@@ -986,6 +986,9 @@ BAD(count, "bad-count.yaml", "3:20: bad count '-1' (want a whole number >= 0)")
 BAD(stat, "bad-stat.yaml", "3:30: unknown stat 'p95' (want p99 or ewma)")
 BAD(bool, "bad-bool.yaml", "3:15: bad boolean 'maybe' (want true or false)")
 BAD(syscall, "bad-syscall.yaml", "3:30: unknown syscall 'frobnicate' in forbid_syscalls")
+/* a blank line in a plain scalar is a newline in it: the error stays one line */
+BAD(syscall_newline, "bad-syscall-newline.yaml",
+    "2:20: unknown syscall 'clock_na\\nnosleep' in cycle_syscalls")
 BAD(cycle_syscall, "bad-cycle-syscall.yaml",
     "2:37: unknown syscall 'sleep_forever' in cycle_syscalls")
 BAD(too_many_delims, "bad-too-many-delims.yaml",
@@ -1112,6 +1115,7 @@ int main(void)
 		T(bad_stat),
 		T(bad_bool),
 		T(bad_syscall),
+		T(bad_syscall_newline),
 		T(bad_cycle_syscall),
 		cmocka_unit_test(test_config_warmup),
 		T(bad_too_many_delims),

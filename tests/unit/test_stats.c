@@ -59,6 +59,22 @@ static int make_sequence(__u64 *v, int max)
 	return n;
 }
 
+/*
+ * test_stats_ewma_huge - a value near 2^55 ns (a damaged recorded trace,
+ * found by fuzz_record) wraps like the CPU instead of overflowing a signed
+ * product: make sanitize runs this under UBSan; ordinary values are unchanged
+ */
+static void test_stats_ewma_huge(void **state)
+{
+	__s64 e = ewma_update(0, 0, 1000000, 102);
+
+	e = ewma_update(e, 1, 1ULL << 55, 102);
+	e = ewma_update(e, 2, 1000000, 1024);
+	assert_true(ewma_value(e) == 1000000.0);
+	e = ewma_update(ewma_update(0, 0, 1000, 512), 1, 3000, 512);
+	assert_true(ewma_value(e) == 2000.0);
+}
+
 /* weight 102/1024 (about 0.1) tracks the double reference */
 static void test_stats_ewma_weight_01(void **state)
 {
@@ -336,6 +352,7 @@ static void test_stats_account_epoch_bank(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_stats_ewma_huge),
 		cmocka_unit_test(test_stats_ewma_weight_01),
 		cmocka_unit_test(test_stats_ewma_weight_05),
 		cmocka_unit_test(test_stats_ewma_weight_1),
