@@ -344,16 +344,19 @@ static __always_inline struct rtsup_thread *add_thread(struct task_struct *task,
 	/* a new thread's wakeups are read until it shows a delimiter */
 	tid_bit_set(wakemask, tid);
 	err = bpf_map_update_elem(&threads, &tid, tmpl, BPF_NOEXIST);
-	if (err && err != -EEXIST) {
+	/*
+	 * The entry may be there whatever the error: -EEXIST, or -EBUSY on
+	 * PREEMPT_RT, where a program preempted inside an update of this map
+	 * holds its bucket lock slot on this CPU. Untracked only without one.
+	 */
+	t = bpf_map_lookup_elem(&threads, &tid);
+	if (!t) {
 		/* a thread, once: --rt tries again at every switch-in */
 		tgid = BPF_CORE_READ(task, tgid);
 		if (!bpf_map_update_elem(&untracked, &tid, &tgid, BPF_NOEXIST))
 			count(RTSUP_C_MAP_FULL);
 		return NULL;
 	}
-	t = bpf_map_lookup_elem(&threads, &tid);
-	if (!t)
-		return NULL;
 	if (err) {
 		/*
 		 * Every caller has a live task: an entry of a thread that exited
