@@ -26,8 +26,12 @@ def test_32bit_program_not_classified_wrongly(tmp_path):
     [t] = [t for t in summary["threads"] if t["tid"] == truth["tid"]]
     tot = t["total"]
     assert truth["writes"] == 500
-    # nothing classified: no unsafe syscall, no delimiter (activations only)
-    assert tot["unsafe_syscalls"] == {} and tot["unsafe"]["syscall"] == 0, tot["unsafe_syscalls"]
+    # nothing of the 32-bit program classified, no delimiter (activations only).
+    # Only the 64-bit execve that makes the child the program may count: on a
+    # noisy machine the child waits for a CPU before it, which opens an activation
+    sys64 = tot["unsafe_syscalls"]
+    assert set(sys64) <= {"execve"} and sys64.get("execve", 0) <= 1, sys64
+    assert tot["unsafe"]["syscall"] == sum(sys64.values()), tot["unsafe"]
     assert t["mode"] != "delimiter"
     # every sleep and write of the loop was seen and counted as 32-bit
     assert tot["compat_syscalls"] >= 2 * truth["cycles"]
