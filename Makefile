@@ -17,6 +17,7 @@ UNITDIR  ?= $(PREFIX)/lib/systemd/system
 CFLAGS   ?= -O2 -g
 WARN     := -Wall -Wextra -Wno-unused-parameter
 INCLUDES := -Iinclude -I$(OUT) -I/usr/include/libnl3
+USER_INC := -Iuser
 USER_LIBS := -lbpf -lelf -lz -ljansson -lyaml -lnl-route-3 -lnl-3 -lsystemd -lpthread
 CPPFLAGS += -D_GNU_SOURCE -MMD -MP
 
@@ -28,10 +29,12 @@ Q = @
 msg = @printf '  %-8s %s\n' "$(1)" "$(2)";
 endif
 
-USER_SRCS := $(wildcard user/*.c)
+# user/ has one folder per pipeline stage (docs/design.md); #include "stage/x.h"
+USER_SRCS := $(wildcard user/*.c user/*/*.c)
 USER_OBJS := $(patsubst user/%.c,$(OUT)/user/%.o,$(USER_SRCS))
-UNIT_SRCS := $(wildcard tests/unit/test_*.c)
-UNIT_BINS := $(patsubst tests/unit/%.c,$(OUT)/tests/%,$(UNIT_SRCS))
+# tests/unit/ has the same folders; the binaries share one directory
+UNIT_SRCS := $(wildcard tests/unit/*/test_*.c)
+UNIT_BINS := $(patsubst %.c,$(OUT)/tests/%,$(notdir $(UNIT_SRCS)))
 
 .PHONY: all clean test unit integration test-noisy deps demo bench format-check install soak \
 	fuzz fuzz-build fuzz-regress sanitize
@@ -42,7 +45,7 @@ UNIT_BINS := $(patsubst tests/unit/%.c,$(OUT)/tests/%,$(UNIT_SRCS))
 all: $(OUT)/rtsup-trace $(OUT)/rtsup-loadgen $(OUT)/rtsup-cansim $(OUT)/rtsup-noise \
      $(OUT)/progs/usleep_loop $(OUT)/progs/timerfd_loop $(OUT)/progs32/abi32_loop
 
-$(OUT) $(OUT)/user $(OUT)/tests:
+$(OUT) $(OUT)/tests:
 	$(Q)mkdir -p $@
 
 # vmlinux.h from the build host's BTF; bpf/vmlinux.h is a pinned fallback.
@@ -84,9 +87,10 @@ $(OUT)/tests/test_syscall_tables: $(OUT)/syscall_table_x86_64.h $(OUT)/syscall_t
 
 $(USER_OBJS): $(OUT)/rtsup.skel.h $(OUT)/rtsup_empty.skel.h $(OUT)/syscall_table.h
 
-$(OUT)/user/%.o: user/%.c | $(OUT)/user
+$(OUT)/user/%.o: user/%.c
+	@mkdir -p $(@D)
 	$(call msg,CC,$@)
-	$(Q)$(CC) $(CFLAGS) $(WARN) $(CPPFLAGS) $(INCLUDES) -c $< -o $@
+	$(Q)$(CC) $(CFLAGS) $(WARN) $(CPPFLAGS) $(INCLUDES) $(USER_INC) -c $< -o $@
 
 $(OUT)/rtsup-trace: $(USER_OBJS)
 	$(call msg,LINK,$@)
@@ -117,36 +121,36 @@ $(OUT)/progs32/%: tests/integration/progs/%.c
 	$(Q)$(CC) -m32 $(CFLAGS) $(WARN) $< -o $@
 
 # Unit tests: plain C from include/ and user/, no kernel, no root.
-UNIT_DEPS_test_model  := user/model.c
-UNIT_DEPS_test_eventlog := user/eventlog.c
-UNIT_DEPS_test_histdraw := user/histdraw.c
-UNIT_DEPS_test_progress := user/progress.c
-UNIT_DEPS_test_syscalls := user/syscalls.c
-UNIT_DEPS_test_config := user/config.c user/syscalls.c user/actionspec.c user/status.c
+UNIT_DEPS_test_model  := user/model/model.c
+UNIT_DEPS_test_eventlog := user/model/eventlog.c
+UNIT_DEPS_test_histdraw := user/sinks/histdraw.c
+UNIT_DEPS_test_progress := user/sinks/progress.c
+UNIT_DEPS_test_syscalls := user/model/syscalls.c
+UNIT_DEPS_test_config := user/config/config.c user/model/syscalls.c user/config/actionspec.c user/judge/status.c
 UNIT_LIBS_test_config := -lyaml
-UNIT_DEPS_test_record := user/record.c user/jsonstr.c user/errline.c
+UNIT_DEPS_test_record := user/sinks/record.c user/sinks/jsonstr.c user/sinks/errline.c
 UNIT_LIBS_test_record := -lz -ljansson
-UNIT_DEPS_test_perfetto := user/perfetto.c user/jsonstr.c user/errline.c
+UNIT_DEPS_test_perfetto := user/sinks/perfetto.c user/sinks/jsonstr.c user/sinks/errline.c
 UNIT_LIBS_test_perfetto := -ljansson
-UNIT_DEPS_test_checks := user/checks.c user/model.c user/status.c
-UNIT_DEPS_test_status := user/status.c
-UNIT_DEPS_test_actionspec := user/actionspec.c user/status.c
-UNIT_DEPS_test_actions := user/actions.c user/actionspec.c user/status.c user/config.c user/syscalls.c
+UNIT_DEPS_test_checks := user/judge/checks.c user/model/model.c user/judge/status.c
+UNIT_DEPS_test_status := user/judge/status.c
+UNIT_DEPS_test_actionspec := user/config/actionspec.c user/judge/status.c
+UNIT_DEPS_test_actions := user/robot/actions.c user/config/actionspec.c user/judge/status.c user/config/config.c user/model/syscalls.c
 UNIT_LIBS_test_actions := -ljansson -lyaml
-UNIT_DEPS_test_targets := user/targets.c
-UNIT_DEPS_test_pidns := user/pidns.c
-UNIT_DEPS_test_candump := user/candump.c
-UNIT_DEPS_test_prom := user/prom.c user/model.c user/status.c user/syscalls.c
-UNIT_DEPS_test_service := user/service.c user/status.c
+UNIT_DEPS_test_targets := user/collect/targets.c
+UNIT_DEPS_test_pidns := user/collect/pidns.c
+UNIT_DEPS_test_candump := user/offline/candump.c
+UNIT_DEPS_test_prom := user/sinks/prom.c user/model/model.c user/judge/status.c user/model/syscalls.c
+UNIT_DEPS_test_service := user/robot/service.c user/judge/status.c
 UNIT_LIBS_test_service := -lsystemd
-UNIT_DEPS_test_promexp := user/promexp.c
+UNIT_DEPS_test_promexp := user/sinks/promexp.c
 UNIT_LIBS_test_promexp := -lpthread
-UNIT_DEPS_test_canmodel := user/canmodel.c user/model.c user/status.c user/config.c user/syscalls.c user/actionspec.c
+UNIT_DEPS_test_canmodel := user/model/canmodel.c user/model/model.c user/judge/status.c user/config/config.c user/model/syscalls.c user/config/actionspec.c
 UNIT_LIBS_test_canmodel := -lyaml
 .SECONDEXPANSION:
-$(OUT)/tests/%: tests/unit/%.c $$(UNIT_DEPS_$$*) $(OUT)/syscall_table.h | $(OUT)/tests
+$(OUT)/tests/%: $$(wildcard tests/unit/*/$$*.c) $$(UNIT_DEPS_$$*) $(OUT)/syscall_table.h | $(OUT)/tests
 	$(call msg,CC,$@)
-	$(Q)$(CC) $(CFLAGS) $(WARN) $(CPPFLAGS) $(INCLUDES) -Iuser $< $(UNIT_DEPS_$*) -lcmocka -lm $(UNIT_LIBS_$*) -o $@
+	$(Q)$(CC) $(CFLAGS) $(WARN) $(CPPFLAGS) $(INCLUDES) $(USER_INC) $< $(UNIT_DEPS_$*) -lcmocka -lm $(UNIT_LIBS_$*) -o $@
 
 # every binary runs even when one fails; make fails at the end
 unit: $(UNIT_BINS)
@@ -176,18 +180,16 @@ FUZZ_TARGETS := config record candump options proc
 FUZZ_OBJS := $(patsubst user/%.c,$(OUT)/fuzz/user/%.o,$(filter-out user/main.c,$(USER_SRCS)))
 FUZZ_BINS := $(patsubst %,$(OUT)/fuzz/fuzz_%,$(FUZZ_TARGETS))
 
-$(OUT)/fuzz/user:
-	$(Q)mkdir -p $@
-
 $(FUZZ_OBJS): $(OUT)/rtsup.skel.h $(OUT)/rtsup_empty.skel.h $(OUT)/syscall_table.h
 
-$(OUT)/fuzz/user/%.o: user/%.c | $(OUT)/fuzz/user
+$(OUT)/fuzz/user/%.o: user/%.c
+	@mkdir -p $(@D)
 	$(call msg,CC-FUZZ,$@)
-	$(Q)$(FUZZ_CC) $(FUZZ_FLAGS) -fsanitize=fuzzer-no-link $(WARN) $(CPPFLAGS) $(INCLUDES) -c $< -o $@
+	$(Q)$(FUZZ_CC) $(FUZZ_FLAGS) -fsanitize=fuzzer-no-link $(WARN) $(CPPFLAGS) $(INCLUDES) $(USER_INC) -c $< -o $@
 
 $(OUT)/fuzz/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz.h $(FUZZ_OBJS)
 	$(call msg,LINK,$@)
-	$(Q)$(FUZZ_CC) $(FUZZ_FLAGS) -fsanitize=fuzzer $(WARN) $(CPPFLAGS) $(INCLUDES) -Iuser \
+	$(Q)$(FUZZ_CC) $(FUZZ_FLAGS) -fsanitize=fuzzer $(WARN) $(CPPFLAGS) $(INCLUDES) $(USER_INC) \
 		$< $(FUZZ_OBJS) $(USER_LIBS) -lm -o $@
 
 fuzz-build: $(FUZZ_BINS)
@@ -260,7 +262,7 @@ bench: all $(OUT)/rtsup_empty.bpf.o
 	$(Q)scripts/bench
 
 format-check:
-	$(Q)clang-format --dry-run --Werror include/*.h user/*.c user/*.h bpf/*.c bpf/*.h
+	$(Q)clang-format --dry-run --Werror include/*.h user/*.[ch] user/*/*.[ch] bpf/*.c bpf/*.h
 
 install: all
 	install -D -m 0755 $(OUT)/rtsup-trace $(DESTDIR)$(PREFIX)/bin/rtsup-trace
@@ -283,4 +285,4 @@ soak: all
 clean:
 	$(Q)rm -rf $(OUT) $(SAN_OUT)
 
--include $(wildcard $(OUT)/*.d $(OUT)/user/*.d $(OUT)/tests/*.d)
+-include $(wildcard $(OUT)/*.d $(OUT)/user/*.d $(OUT)/user/*/*.d $(OUT)/tests/*.d)

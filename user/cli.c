@@ -8,11 +8,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "actionspec.h"
+#include "config/actionspec.h"
 #include "options.h"
-#include "strict.h"
+#include "config/strict.h"
 #include "rtsup.h"
-#include "status.h"
+#include "judge/status.h"
 
 const char *argp_program_version = "rtsup-trace 0.1";
 const char *argp_program_bug_address = "the rtsup issue tracker";

@@ -14,20 +14,20 @@
 #include <unistd.h>
 #include <sys/wait.h>
 #include <bpf/libbpf.h>
-#include "actions.h"
-#include "cancollect.h"
-#include "canreplay.h"
-#include "collector.h"
-#include "config.h"
-#include "loader.h"
+#include "robot/actions.h"
+#include "collect/cancollect.h"
+#include "offline/canreplay.h"
+#include "collect/collector.h"
+#include "config/config.h"
+#include "collect/loader.h"
 #include "options.h"
-#include "output.h"
-#include "pidns.h"
-#include "replay.h"
-#include "robot.h"
-#include "sinks.h"
-#include "supervise.h"
-#include "targets.h"
+#include "sinks/output.h"
+#include "collect/pidns.h"
+#include "offline/replay.h"
+#include "robot/robot.h"
+#include "sinks/sinks.h"
+#include "judge/supervise.h"
+#include "collect/targets.h"
 #include "can.h"	/* the skeleton's .bss holds can_if_slot */
 #include "rtsup.skel.h"
 

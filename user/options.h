@@ -5,8 +5,8 @@
 
 #include <stdbool.h>
 #include <linux/types.h>
-#include "targets.h"
-#include "syscalls.h"
+#include "collect/targets.h"
+#include "model/syscalls.h"
 
 struct options {
 	struct targets targets;

@@ -1,15 +1,15 @@
 // SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
 /*
- * fuzz_candump.c - candump log lines (user/candump.c), then the whole log
- * through `rtsup-trace can-replay` (user/canreplay.c): frame accounting,
+ * fuzz_candump.c - candump log lines (user/offline/candump.c), then the whole log
+ * through `rtsup-trace can-replay` (user/offline/canreplay.c): frame accounting,
  * interval boundaries, clock steps, the CAN checks and output.
  */
 #include <string.h>
-#include "candump.h"
-#include "canreplay.h"
-#include "config.h"
+#include "offline/candump.h"
+#include "offline/canreplay.h"
+#include "config/config.h"
 #include "options.h"
-#include "supervise.h"
+#include "judge/supervise.h"
 #include "fuzz.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv)

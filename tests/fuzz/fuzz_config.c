@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
 /*
- * fuzz_config.c - the YAML configuration (user/config.c): config_load as
+ * fuzz_config.c - the YAML configuration (user/config/config.c): config_load as
  * --config and --check-config do (then config_print), lookups of the loaded
  * rules, and a SIGHUP reload over a running supervisor's configuration.
  */
 #include <string.h>
-#include "config.h"
-#include "supervise.h"
+#include "config/config.h"
+#include "judge/supervise.h"
 #include "fuzz.h"
 
 static FILE *devnull;

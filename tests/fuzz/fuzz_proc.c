@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
 /*
  * fuzz_proc.c - the /proc and cgroup text the targets module reads
- * (user/targets.c): a comm file (then comm_sanitize), /proc/<tid>/status
+ * (user/collect/targets.c): a comm file (then comm_sanitize), /proc/<tid>/status
  * for the Tgid, cgroup.threads, and the CPU mask formatter on the bytes.
  */
 #include <string.h>
-#include "targets.h"
+#include "collect/targets.h"
 #include "fuzz.h"
 
 /* count - a cgroup.threads callback that stops at the 1000th thread */

@@ -1,15 +1,15 @@
 // SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
 /*
- * fuzz_record.c - the recorded trace reader (user/record.c) through
- * `rtsup-trace replay` (user/replay.c): header, records, the model, the
+ * fuzz_record.c - the recorded trace reader (user/sinks/record.c) through
+ * `rtsup-trace replay` (user/offline/replay.c): header, records, the model, the
  * checks, the table or JSON output and a Perfetto trace. The fuzz build
  * takes any record checksum (REC_FUZZING in record.c).
  */
 #include <string.h>
-#include "config.h"
+#include "config/config.h"
 #include "options.h"
-#include "replay.h"
-#include "supervise.h"
+#include "offline/replay.h"
+#include "judge/supervise.h"
 #include "fuzz.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv)

@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/* test_targets.c - the CPU list shown for a thread's affinity; kernel threads from /proc */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <string.h>
+#include <unistd.h>
+#include <cmocka.h>
+#include "collect/targets.h"
+
+#define W (8 * (int)sizeof(unsigned long))
+
+static void set(unsigned long *bits, int c)
+{
+	bits[c / W] |= 1UL << (c % W);
+}
+
+static void test_cpu_list_ranges(void **state)
+{
+	unsigned long bits[1024 / W] = { 0 };
+	char buf[64];
+
+	(void)state;
+	set(bits, 0);
+	set(bits, 1);
+	set(bits, 2);
+	set(bits, 3);
+	set(bits, 6);
+	set(bits, 63);
+	set(bits, 64);
+	set(bits, 1023);
+	cpu_list_mask(bits, 1024, buf, sizeof(buf));
+	assert_string_equal(buf, "0-3,6,63-64,1023");
+}
+
+static void test_cpu_list_empty_and_single(void **state)
+{
+	unsigned long bits[128 / W] = { 0 };
+	char buf[16];
+
+	(void)state;
+	cpu_list_mask(bits, 128, buf, sizeof(buf));
+	assert_string_equal(buf, "");
+	set(bits, 5);
+	cpu_list_mask(bits, 64, buf, sizeof(buf));
+	assert_string_equal(buf, "5");
+}
+
+/* a list longer than the buffer is cut, never overrun */
+static void test_cpu_list_truncated(void **state)
+{
+	unsigned long bits[256 / W] = { 0 };
+	char buf[8];
+	int c;
+
+	(void)state;
+	for (c = 0; c < 256; c += 2)
+		set(bits, c);
+	cpu_list_mask(bits, 256, buf, sizeof(buf));
+	assert_true(strlen(buf) < sizeof(buf));
+	assert_memory_equal(buf, "0,2,4,6", 7);
+}
+
+/* the flags field of /proc/<pid>/stat, after a name with spaces and ')' */
+static void test_stat_flags_kthread(void **state)
+{
+	const char *k = "42 (watchdogd) S 2 0 0 0 -1 2129984 0 0 0 0 0 0 0 0 -51 0 1 0 4 0 0";
+	const char *u = "1234 (a) b) c) S 1 1234 1234 0 -1 4194560 99 0 0 0 1 2 0 0 -21 0 3 0";
+
+	assert_true(stat_flags(k) & TARGETS_PF_KTHREAD);
+	assert_int_equal(stat_flags(u), 4194560);
+	assert_false(stat_flags(u) & TARGETS_PF_KTHREAD);
+	assert_int_equal(stat_flags("garbage"), 0);
+	assert_int_equal(stat_flags("1 (x) S"), 0);
+}
+
+/* this process is no kernel thread; kthreadd (pid 2) is one, where it is visible */
+static void test_thread_is_kernel_here(void **state)
+{
+	char comm[RTSUP_COMM_LEN];
+
+	assert_false(thread_is_kernel(getpid(), getpid()));
+	if (!thread_comm(2, 2, comm, sizeof(comm)) && !strcmp(comm, "kthreadd"))
+		assert_true(thread_is_kernel(2, 2));
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_cpu_list_ranges),
+		cmocka_unit_test(test_cpu_list_empty_and_single),
+		cmocka_unit_test(test_cpu_list_truncated),
+		cmocka_unit_test(test_stat_flags_kthread),
+		cmocka_unit_test(test_thread_is_kernel_here),
+	};
+
+	return cmocka_run_group_tests_name("targets", tests, NULL, NULL);
+}

@@ -1,0 +1,549 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/* collector.c - read the kernel's maps into the model, once per interval */
+#include <errno.h>
+#include <sched.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+#include <sys/syscall.h>
+#include <bpf/bpf.h>
+#include <bpf/libbpf.h>
+#include "collect/collector.h"
+#include "collect/liveness.h"
+#include "cycle.h"
+#include "collect/targets.h"
+#include "model/syscalls.h"
+#include "judge/supervise.h"
+#include "can.h"	/* the skeleton's .bss holds can_if_slot */
+#include "rtsup.skel.h"
+
+__u64 mono_now(void)
+{
+	struct timespec ts;
+
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return ts.tv_sec * 1000000000ULL + ts.tv_nsec;
+}
+
+/* clock_offset - offset of a clock to CLOCK_MONOTONIC, in ns */
+static __s64 clock_offset(clockid_t clk)
+{
+	struct timespec a, m;
+
+	if (clock_gettime(clk, &a))
+		return 0;
+	clock_gettime(CLOCK_MONOTONIC, &m);
+	return (a.tv_sec - m.tv_sec) * 1000000000LL + (a.tv_nsec - m.tv_nsec);
+}
+
+/* update_clocks - let the kernel side convert absolute sleeps to its clock */
+static void update_clocks(struct collector *c)
+{
+	static const clockid_t clks[] = { CLOCK_REALTIME, CLOCK_BOOTTIME, CLOCK_TAI };
+	size_t i;
+
+	for (i = 0; i < sizeof(clks) / sizeof(clks[0]); i++)
+		c->skel->bss->clock_off[clks[i]] = clock_offset(clks[i]);
+	c->real_off = c->skel->bss->clock_off[CLOCK_REALTIME];
+}
+
+/* on_event - ring buffer callback: keep the event for the sinks */
+static int on_event(void *ctx, void *data, size_t len)
+{
+	struct collector *c = ctx;
+
+	if (len < sizeof(struct rtsup_event))
+		return 0;
+	if (c->on_rare)
+		c->on_rare(c->sink_ctx, data);
+	collector_take_event(c, data);
+	return 0;
+}
+
+void collector_take_event(struct collector *c, const struct rtsup_event *e)
+{
+	struct rtsup_event ev = *e;
+
+	ev.comm[RTSUP_COMM_LEN - 1] = '\0';
+	comm_sanitize(ev.comm, RTSUP_COMM_LEN);
+	c->events_total++;
+	eventlog_add(&c->events, &ev);
+}
+
+/* on_cycle_rec - recording ring buffer callback: hand the cycle to the sinks */
+static int on_cycle_rec(void *ctx, void *data, size_t len)
+{
+	struct collector *c = ctx;
+
+	if (len >= sizeof(struct rtsup_cycle_rec) && c->on_cycle)
+		c->on_cycle(c->sink_ctx, data);
+	return 0;
+}
+
+/* add_initial - a thread found by the start-up scan goes into the maps */
+static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, bool process)
+{
+	struct collector *c = ctx;
+	struct rtsup_thread *t = calloc(1, sizeof(*t));
+	__u32 key = tid, one = 1, k = tgid;
+	int err = 0;
+
+	if (!t)
+		return -ENOMEM;
+	cycle_thread_init(t, tid, tgid, mono_now());
+	strncpy(t->comm, comm, RTSUP_COMM_LEN - 1);
+	if (process)
+		bpf_map_update_elem(bpf_map__fd(c->skel->maps.tgids), &k, &one, BPF_ANY);
+	/* the hooks look a thread up only when its bit is set (rtsup.h) */
+	tid_bit_set(c->skel->bss->tidmask, key);
+	/* and read its wakeups until it shows a delimiter (rtsup.bpf.c) */
+	tid_bit_set(c->skel->bss->wakemask, key);
+	/* the kernel may have added it since attach: keep its entry */
+	if (bpf_map_update_elem(bpf_map__fd(c->skel->maps.threads), &key, t, BPF_NOEXIST) &&
+	    errno != EEXIST) {
+		if (errno != E2BIG)
+			err = -errno;
+		/* counted once, by whichever side notes it first (rtsup.bpf.c) */
+		else if (!bpf_map_update_elem(bpf_map__fd(c->skel->maps.untracked), &key, &k,
+					      BPF_NOEXIST))
+			c->untracked_scan++;
+	}
+	free(t);
+	return err;
+}
+
+int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct options *o)
+{
+	int err;
+
+	memset(c, 0, sizeof(*c));
+	c->skel = skel;
+	c->o = o;
+	c->start_ns = mono_now();
+	c->batch_cap = COLLECTOR_BATCH;
+	c->batch_keys = calloc(c->batch_cap, sizeof(*c->batch_keys));
+	c->batch_vals = calloc(c->batch_cap, sizeof(*c->batch_vals));
+	if (!c->batch_keys || !c->batch_vals) {
+		fprintf(stderr, "rtsup-trace: out of memory\n");
+		return -1;
+	}
+	update_clocks(c);
+	c->rb = ring_buffer__new(bpf_map__fd(skel->maps.events), on_event, c, NULL);
+	if (!c->rb || (skel->rodata->cfg_record &&
+		       ring_buffer__add(c->rb, bpf_map__fd(skel->maps.cycles), on_cycle_rec, c))) {
+		fprintf(stderr, "rtsup-trace: cannot create the ring buffer: %s\n", strerror(errno));
+		return -1;
+	}
+	err = targets_scan(&o->targets, add_initial, c);
+	if (err) {
+		fprintf(stderr, "rtsup-trace: adding targets: %s\n", strerror(-err));
+		return -1;
+	}
+	return 0;
+}
+
+int collector_scan(struct collector *c, const struct targets *t)
+{
+	return targets_scan(t, add_initial, c);
+}
+
+int collector_poll(struct collector *c, int ms)
+{
+	int err = ring_buffer__poll(c->rb, ms);
+
+	return err == -EINTR ? 0 : err;
+}
+
+/* read_counters - sum the per-CPU counters of the kernel side */
+static void read_counters(struct collector *c)
+{
+	int ncpu = libbpf_num_possible_cpus(), fd = bpf_map__fd(c->skel->maps.counters);
+	__u64 vals[ncpu > 0 ? ncpu : 1];
+	__u32 k;
+	int i;
+
+	for (k = 0; k < RTSUP_C_NR; k++) {
+		/* the start-up scan's misses are threads the kernel side never counted */
+		__u64 sum = k == RTSUP_C_MAP_FULL ? c->untracked_scan : 0;
+
+		if (ncpu <= 0 || bpf_map_lookup_elem(fd, &k, vals))
+			continue;	/* keep the last sum: counters never go back */
+		for (i = 0; i < ncpu; i++)
+			sum += vals[i];
+		c->counters[k] = sum;
+	}
+}
+
+/* read_unsafe_sys - per-syscall unsafe counts into the model */
+static void read_unsafe_sys(struct collector *c)
+{
+	int fd = bpf_map__fd(c->skel->maps.unsafe_sys);
+	struct rtsup_sys_key key, next, *prev = NULL;
+	struct thread_model *tm;
+	__u64 n;
+
+	while (!bpf_map_get_next_key(fd, prev, &next)) {
+		key = next;
+		prev = &key;
+		if (bpf_map_lookup_elem(fd, &key, &n))
+			continue;
+		tm = model_get(&c->model, key.tid, false);
+		/* counts of the start-up phase stay out of a delimiter thread */
+		if (tm && key.mode == cycle_sys_mode(&tm->cur.cs))
+			model_sys_set(tm, key.nr, n);
+	}
+}
+
+/* read_cgroup - a thread's cgroup v2 path from /proc/<tid>/cgroup, "" if unknown */
+static void read_cgroup(__u32 tgid, __u32 tid, char *buf, size_t len)
+{
+	char path[64], line[512];
+	FILE *f;
+
+	buf[0] = '\0';
+	snprintf(path, sizeof(path), "/proc/%u/task/%u/cgroup", tgid, tid);
+	f = fopen(path, "re");
+	if (!f)
+		return;
+	while (fgets(line, sizeof(line), f)) {
+		if (!strncmp(line, "0::", 3)) {
+			line[strcspn(line, "\n")] = '\0';
+			snprintf(buf, len, "%.255s", line + 3);
+			break;
+		}
+	}
+	fclose(f);
+}
+
+/*
+ * rematch - the rules match on the thread's name, its process's name and
+ * its cgroup: when one changes (PR_SET_NAME, exec, a move to another
+ * cgroup) the rules are matched again and the kernel gets the new settings
+ */
+static void rematch(struct thread_model *tm)
+{
+	tm->rule_gen = 0;
+	tm->cfg_gen = 0;
+}
+
+/* refresh_identity - names, cgroup and scheduling attributes of a live thread */
+static void refresh_identity(struct thread_model *tm)
+{
+	char pcomm[RTSUP_COMM_LEN], cg[sizeof(tm->cgroup)];
+	struct sched_param sp;
+
+	if (!tm->pcomm[0])
+		tm->kthread = thread_is_kernel(tm->tgid, tm->tid);
+	if (thread_comm(tm->tgid, tm->tgid, pcomm, sizeof(pcomm)))
+		snprintf(pcomm, sizeof(pcomm), "%s", tm->comm);
+	comm_sanitize(pcomm, sizeof(pcomm));
+	read_cgroup(tm->tgid, tm->tid, cg, sizeof(cg));
+	if (strcmp(pcomm, tm->pcomm) || strcmp(cg, tm->cgroup)) {
+		memcpy(tm->pcomm, pcomm, sizeof(pcomm));
+		memcpy(tm->cgroup, cg, sizeof(cg));
+		rematch(tm);
+	}
+
+	/*
+	 * Asked every interval, not copied by the hooks: a thread that changes
+	 * its own policy while it runs would keep a stale copy for a while,
+	 * and the policy check would raise an ERROR that is not true.
+	 */
+	tm->policy = sched_getscheduler(tm->tid);
+	if (tm->policy < 0)
+		return;
+	tm->policy &= ~SCHED_RESET_ON_FORK;
+	tm->prio = sched_getparam(tm->tid, &sp) ? 0 : sp.sched_priority;
+	cpu_list(tm->tid, tm->cpus, sizeof(tm->cpus));
+}
+
+/* idle_in_window - not switched in or out in the interval just read */
+static bool idle_in_window(const struct thread_model *tm)
+{
+	return !tm->win.vol_cs && !tm->win.invol_cs;
+}
+
+/*
+ * thread_gone - the thread does not exist any more. The start-up scan can
+ * find a thread already past its exit tracepoint: no exit event will mark
+ * its entry, so an idle entry is checked against the kernel.
+ */
+static bool thread_gone(__u32 tgid, __u32 tid)
+{
+	return syscall(SYS_tgkill, tgid, tid, 0) < 0 && errno == ESRCH;
+}
+
+/* take - one thread's new kernel snapshot into the model */
+static int take(struct collector *c, __u32 tid, const struct rtsup_thread *t)
+{
+	struct thread_model *tm = model_get(&c->model, tid, true);
+	char comm[RTSUP_COMM_LEN];
+
+	if (!tm)
+		return -ENOMEM;
+	if (!tm->cur.first_seen)
+		tm->rule = -1;
+	/* a tid reused by a new thread starts a new model */
+	if (tm->cur.first_seen && tm->cur.first_seen != t->first_seen) {
+		model_remove(&c->model, tid);
+		tm = model_get(&c->model, tid, true);
+		if (!tm)
+			return -ENOMEM;
+	}
+	model_set(tm, t, c->bank);
+	tm->tgid = t->tgid;
+	memcpy(comm, t->comm, RTSUP_COMM_LEN);
+	comm[RTSUP_COMM_LEN - 1] = '\0';
+	comm_sanitize(comm, RTSUP_COMM_LEN);
+	if (strcmp(comm, tm->comm)) {
+		memcpy(tm->comm, comm, RTSUP_COMM_LEN);
+		rematch(tm);
+	}
+	tm->seen = true;
+	tm->alive = !thread_dead(false, true, t->exited) &&
+		    !(idle_in_window(tm) && thread_gone(t->tgid, tid));
+	if (tm->alive)
+		refresh_identity(tm);
+	else
+		tm->policy = -1;
+	return 0;
+}
+
+/* read_one_by_one - the thread map without batch operations (kernels < 5.6) */
+static int read_one_by_one(struct collector *c, int fd)
+{
+	__u32 key, next, *prev = NULL;
+
+	while (!bpf_map_get_next_key(fd, prev, &next)) {
+		key = next;
+		prev = &key;
+		c->map_entries++;
+		/* deleted since its key was read: gone, like a key never read */
+		if (bpf_map_lookup_elem(fd, &key, c->batch_vals))
+			continue;
+		if (take(c, key, c->batch_vals))
+			return -ENOMEM;
+	}
+	/* ENOENT: past the last key; anything else: the read stopped half-way */
+	return errno == ENOENT ? 0 : -errno;
+}
+
+#ifndef ENOTSUPP
+#define ENOTSUPP 524	/* the kernel's own "operation not supported" */
+#endif
+
+/* grow_batch - twice the entries per read */
+static int grow_batch(struct collector *c)
+{
+	__u32 cap = c->batch_cap * 2;
+	__u32 *k = realloc(c->batch_keys, cap * sizeof(*k));
+	struct rtsup_thread *v;
+
+	if (!k)
+		return -1;
+	c->batch_keys = k;
+	v = realloc(c->batch_vals, cap * sizeof(*v));
+	if (!v)
+		return -1;
+	c->batch_vals = v;
+	c->batch_cap = cap;
+	return 0;
+}
+
+/* read_threads - the whole thread map, batch_cap entries per syscall */
+static int read_threads(struct collector *c)
+{
+	int fd = bpf_map__fd(c->skel->maps.threads), err;
+	__u64 in = 0, out = 0;
+	__u32 n, i;
+	bool first = true;
+
+	c->map_entries = 0;
+	if (c->no_batch)
+		return read_one_by_one(c, fd);
+	do {
+		n = c->batch_cap;
+		err = bpf_map_lookup_batch(fd, first ? NULL : &in, &out, c->batch_keys,
+					   c->batch_vals, &n, NULL);
+		if (err && errno == ENOSPC && !n) {
+			/* one hash bucket holds more than the buffer: grow it, retry */
+			if (grow_batch(c))
+				return -ENOMEM;
+			continue;
+		}
+		if (err && errno != ENOENT) {
+			if (first && (errno == EINVAL || errno == ENOTSUP || errno == ENOTSUPP)) {
+				c->no_batch = true;
+				return read_one_by_one(c, fd);
+			}
+			return -errno;
+		}
+		for (i = 0; i < n; i++) {
+			c->map_entries++;
+			if (take(c, c->batch_keys[i], &c->batch_vals[i]))
+				return -ENOMEM;
+		}
+		in = out;
+		first = false;
+	} while (!err);
+	return 0;
+}
+
+int collector_sample(struct collector *c)
+{
+	int i, err;
+
+	/* new interval: the kernel writes the other min/max bank from now on */
+	c->bank = c->skel->bss->epoch & 1;
+	c->skel->bss->epoch++;
+	update_clocks(c);
+	collector_poll(c, 0);
+	/* what came in the interval (the poll above was its last), in time order */
+	eventlog_finish(&c->events);
+	/* a thread not in the map any more (reaped) had an empty interval */
+	for (i = 0; i < c->model.n; i++) {
+		c->model.t[i].seen = false;
+		model_idle(&c->model.t[i]);
+	}
+	err = read_threads(c);
+	if (err)
+		fprintf(stderr, "rtsup-trace: reading the thread map: %s\n", strerror(-err));
+	/* an entry not read is a dead thread only if the whole map was read */
+	for (i = 0; i < c->model.n; i++)
+		if (!c->model.t[i].seen && thread_dead(!err, false, false))
+			c->model.t[i].alive = false;
+	read_unsafe_sys(c);
+	read_counters(c);
+	return err;
+}
+
+/* forget_sys - drop a dead thread's unsafe syscall entries */
+static void forget_sys(struct collector *c, __u32 tid)
+{
+	int fd = bpf_map__fd(c->skel->maps.unsafe_sys);
+	struct rtsup_sys_key key, next, *prev = NULL;
+
+	while (!bpf_map_get_next_key(fd, prev, &next)) {
+		key = next;
+		if (key.tid == tid) {
+			bpf_map_delete_elem(fd, &key);
+			continue;	/* restart after the deleted key */
+		}
+		prev = &key;
+	}
+}
+
+/* same_thread - does the kernel entry of tm's tid still belong to tm's thread? */
+static bool same_thread(struct collector *c, int fd, const struct thread_model *tm)
+{
+	/* batch_vals: a buffer of one entry at least, unused between reads */
+	if (bpf_map_lookup_elem(fd, &tm->tid, c->batch_vals))
+		return true;	/* gone already: deleting it again does no harm */
+	return c->batch_vals->first_seen == tm->cur.first_seen;
+}
+
+/* forget_untracked - threads not tracked that are gone: their tid may come back */
+static void forget_untracked(struct collector *c)
+{
+	int fd = bpf_map__fd(c->skel->maps.untracked);
+	__u32 key, next, tgid, *prev = NULL;
+
+	while (!bpf_map_get_next_key(fd, prev, &next)) {
+		key = next;
+		if (!bpf_map_lookup_elem(fd, &key, &tgid) && thread_gone(tgid, key)) {
+			bpf_map_delete_elem(fd, &key);
+			continue;	/* restart after the deleted key */
+		}
+		prev = &key;
+	}
+}
+
+void collector_reap(struct collector *c)
+{
+	int fd = bpf_map__fd(c->skel->maps.threads), tfd = bpf_map__fd(c->skel->maps.tgids);
+	__u32 key, next, *prev = NULL;
+	int i, j;
+
+	for (i = 0; i < c->model.n; i++) {
+		struct thread_model *tm = &c->model.t[i];
+
+		for (j = 0; j < tm->nsys; j++)
+			tm->sys[j].prev = tm->sys[j].total;
+		if (tm->alive || tm->reported_exit)
+			continue;
+		/* reported once: the kernel entry is freed, the model keeps the numbers */
+		tm->reported_exit = true;
+		if (!same_thread(c, fd, tm))
+			continue;	/* a new thread has the tid already (add_thread) */
+		bpf_map_delete_elem(fd, &tm->tid);
+		bpf_map_delete_elem(bpf_map__fd(c->skel->maps.thread_cfg), &tm->tid);
+		forget_sys(c, tm->tid);
+	}
+	model_prune_dead(&c->model, MODEL_KEEP_DEAD);
+	forget_untracked(c);
+	/* processes that are gone must not match a reused pid */
+	while (!bpf_map_get_next_key(tfd, prev, &next)) {
+		key = next;
+		if (!process_exists(key)) {
+			bpf_map_delete_elem(tfd, &key);
+			continue;
+		}
+		prev = &key;
+	}
+}
+
+/* syscall_list - names to numbers for the kernel; unknown names were rejected at load */
+static __u32 syscall_list(__u16 *out, __u32 max, char names[][32], int n)
+{
+	__u32 k = 0;
+	int i, nr;
+
+	for (i = 0; i < n && k < max; i++)
+		if ((nr = syscall_nr(names[i])) >= 0)
+			out[k++] = nr;
+	return k;
+}
+
+void collector_apply_rules(struct collector *c, const struct supervisor *s)
+{
+	int fd = bpf_map__fd(c->skel->maps.thread_cfg), i;
+
+	for (i = 0; i < c->model.n; i++) {
+		struct thread_model *tm = &c->model.t[i];
+		const struct rule *r;
+		struct rtsup_thread_cfg tc = {};
+
+		if (!tm->alive || tm->cfg_gen == s->gen || tm->rule_gen != s->gen)
+			continue;
+		r = supervise_rule(s, tm);
+		tc.period = r->period_ns;
+		tc.warmup = r->warmup_ns;
+		tc.ewma_w = (__u32)(r->ewma_weight * RTSUP_EWMA_ONE + 0.5);
+		tc.ndelims = syscall_list(tc.delims, RTSUP_CFG_DELIMS, (char (*)[32])r->delims,
+					  r->ndelims);
+		tc.nallow = syscall_list(tc.allow, RTSUP_CFG_SYSCALLS, (char (*)[32])r->allow,
+					 r->nallow);
+		tc.nforbid = syscall_list(tc.forbid, RTSUP_CFG_SYSCALLS, (char (*)[32])r->forbid,
+					  r->nforbid);
+		/* the hooks look thread_cfg up only from now on */
+		c->skel->bss->thread_cfg_used = 1;
+		if (!bpf_map_update_elem(fd, &tm->tid, &tc, BPF_ANY))
+			tm->cfg_gen = s->gen;
+	}
+}
+
+void collector_clear_events(struct collector *c)
+{
+	eventlog_clear(&c->events);
+}
+
+void collector_free(struct collector *c)
+{
+	ring_buffer__free(c->rb);
+	eventlog_free(&c->events);
+	model_free(&c->model);
+	free(c->batch_keys);
+	free(c->batch_vals);
+}

@@ -1,0 +1,66 @@
+/* SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause */
+/*
+ * collector.h - kernel maps -> model: once per interval it flips the epoch,
+ * reads every thread entry and the unsafe syscall counts, frees the entries
+ * of dead threads, and gathers the ring buffer's rare events.
+ */
+#ifndef RTSUP_COLLECTOR_H
+#define RTSUP_COLLECTOR_H
+
+#include <stdbool.h>
+#include "model/eventlog.h"
+#include "model/model.h"
+#include "options.h"
+
+struct rtsup_bpf;
+struct ring_buffer;
+
+/* Thread map entries per read at first: 64 entries of ~5 KiB. */
+#define COLLECTOR_BATCH 64
+
+struct collector {
+	struct rtsup_bpf *skel;
+	const struct options *o;
+	struct model model;
+	struct ring_buffer *rb;
+	__u32 bank;			/* interval bank of the last sample */
+	__u64 counters[RTSUP_C_NR];	/* the kernel side's own counters */
+	__u64 untracked_scan;		/* of them, found by the start-up scan (userspace) */
+	struct eventlog events;		/* the interval's rare events (eventlog.h) */
+	__u64 events_total;		/* every rare event of the run */
+	__s64 real_off;			/* CLOCK_REALTIME - CLOCK_MONOTONIC, ns */
+	__u64 start_ns;			/* monotonic start */
+	__u32 map_entries;		/* entries of the thread map at the last sample */
+	/* the thread map is read COLLECTOR_BATCH entries per syscall */
+	__u32 *batch_keys;
+	struct rtsup_thread *batch_vals;
+	__u32 batch_cap;
+	bool no_batch;			/* the kernel has no batch operations */
+	/* sinks that want every cycle and event as it comes (--record, --perfetto) */
+	void (*on_cycle)(void *ctx, const struct rtsup_cycle_rec *r);
+	void (*on_rare)(void *ctx, const struct rtsup_event *e);
+	void *sink_ctx;
+};
+
+/* collector_init - ring buffer, initial scan of the targets */
+int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct options *o);
+/* collector_scan - add the threads of these targets found now (e.g. a restarted unit) */
+int collector_scan(struct collector *c, const struct targets *t);
+/* collector_poll - wait up to ms for rare events */
+int collector_poll(struct collector *c, int ms);
+/* collector_sample - end an interval: refresh the model from the maps */
+int collector_sample(struct collector *c);
+/* collector_reap - after the sinks ran: free what dead threads left */
+void collector_reap(struct collector *c);
+struct supervisor;
+/* collector_apply_rules - per-thread settings of the matching rules, to the kernel */
+void collector_apply_rules(struct collector *c, const struct supervisor *s);
+/* collector_take_event - one rare event for the interval's list */
+void collector_take_event(struct collector *c, const struct rtsup_event *e);
+/* collector_clear_events - forget the events of the interval */
+void collector_clear_events(struct collector *c);
+void collector_free(struct collector *c);
+/* mono_now - CLOCK_MONOTONIC in ns, the clock of the BPF timestamps */
+__u64 mono_now(void);
+
+#endif

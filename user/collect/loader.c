@@ -1,0 +1,247 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/*
+ * loader.c - the canonical libbpf lifecycle: check, open, set rodata,
+ * load, attach. Everything that can fail for a user's reason fails here
+ * with one line that says what to do.
+ */
+#include <errno.h>
+#include <fcntl.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+#include <sys/syscall.h>
+#include <linux/capability.h>
+#include <bpf/bpf.h>
+#include <bpf/btf.h>
+#include <bpf/libbpf.h>
+#include "collect/loader.h"
+#include "rtsup.h"
+#include "can.h"	/* the skeleton's .bss holds can_if_slot */
+#include "rtsup.skel.h"
+#include "rtsup_empty.skel.h"
+
+#ifndef CAP_PERFMON
+#define CAP_PERFMON 38
+#endif
+#ifndef CAP_BPF
+#define CAP_BPF 39
+#endif
+
+/* has_cap - is a capability in our effective set? */
+static bool has_cap(const struct __user_cap_data_struct d[2], int cap)
+{
+	return d[cap / 32].effective & (1U << (cap % 32));
+}
+
+/* check_privileges - root, or CAP_BPF with CAP_PERFMON, or CAP_SYS_ADMIN */
+static int check_privileges(void)
+{
+	struct __user_cap_header_struct h = { _LINUX_CAPABILITY_VERSION_3, 0 };
+	struct __user_cap_data_struct d[2] = {};
+
+	if (syscall(SYS_capget, &h, d))
+		return geteuid() == 0 ? 0 : -1;
+	if (has_cap(d, CAP_SYS_ADMIN) || (has_cap(d, CAP_BPF) && has_cap(d, CAP_PERFMON)))
+		return 0;
+	fprintf(stderr, "rtsup-trace: not allowed to load BPF programs: "
+			"run as root or grant CAP_BPF and CAP_PERFMON\n");
+	return -1;
+}
+
+/* probe_tp_btf - can this kernel attach tp_btf to our tracepoints? */
+static bool probe_tp_btf(void)
+{
+	struct btf *btf = btf__load_vmlinux_btf();
+	bool ok;
+
+	if (!btf)
+		return false;
+	/* the typedef exists only where tp_btf (BPF_PROG_TYPE_TRACING) does */
+	ok = btf__find_by_name_kind(btf, "btf_trace_sched_switch", BTF_KIND_TYPEDEF) > 0;
+	btf__free(btf);
+	return ok;
+}
+
+/* select_programs - keep one of the two program sets; CAN only with --can */
+static void select_programs(struct bpf_object *obj, bool btf, bool can)
+{
+	struct bpf_program *p;
+
+	bpf_object__for_each_program(p, obj) {
+		const char *sec = bpf_program__section_name(p);
+		bool is_btf = !strncmp(sec, "tp_btf/", 7);
+		bool is_can = !strncmp(bpf_program__name(p), "can_", 4);
+
+		bpf_program__set_autoload(p, is_btf == btf && (can || !is_can));
+	}
+}
+
+/* fill_sysclass - the syscall class table, from data in syscalls.c */
+static int fill_sysclass(struct rtsup_bpf *s, const struct options *o)
+{
+	static __u32 table[RTSUP_MAX_SYSCALLS];
+	char err[128];
+	int fd = bpf_map__fd(s->maps.sysclass);
+	__u32 i;
+
+	if (sysclass_build(table, RTSUP_MAX_SYSCALLS, o->delims, o->ndelims, err,
+			   sizeof(err))) {
+		fprintf(stderr, "rtsup-trace: --cycle-syscall: %s\n", err);
+		return -1;
+	}
+	for (i = 0; i < RTSUP_MAX_SYSCALLS; i++)
+		if (table[i] && bpf_map_update_elem(fd, &i, &table[i], BPF_ANY))
+			return -errno;
+	return 0;
+}
+
+/*
+ * floor_start - --floor (the benchmark's floor): the same program set with
+ * empty bodies (RTSUP_EMPTY) instead of ours; our maps stay for the collector
+ */
+static int floor_start(struct loader *l, const struct options *o)
+{
+	struct rtsup_empty_bpf *e = rtsup_empty_bpf__open();
+	struct bpf_map *m;
+
+	if (!e)
+		return -errno;
+	l->floor = e;
+	select_programs(e->obj, l->tp_btf, o->can);
+	/* its maps are never used: keep them small */
+	bpf_object__for_each_map(m, e->obj)
+		if (bpf_map__type(m) != BPF_MAP_TYPE_RINGBUF)
+			bpf_map__set_max_entries(m, 1);
+	return rtsup_empty_bpf__load(e) ?: rtsup_empty_bpf__attach(e);
+}
+
+int loader_start(struct loader *l, const struct options *o)
+{
+	struct rtsup_bpf *s;
+	struct bpf_program *p;
+	int err, i;
+
+	memset(l, 0, sizeof(*l));
+	l->cgroup_fd = -1;
+	l->stats_fd = -1;
+	if (check_privileges())
+		return -1;
+	if (access("/sys/kernel/btf/vmlinux", R_OK)) {
+		fprintf(stderr, "rtsup-trace: this kernel has no BTF (/sys/kernel/btf/vmlinux): "
+				"it needs CONFIG_DEBUG_INFO_BTF=y\n");
+		return -1;
+	}
+	l->tp_btf = !o->raw_tp && probe_tp_btf();
+	s = rtsup_bpf__open();
+	if (!s) {
+		fprintf(stderr, "rtsup-trace: cannot open the BPF object: %s\n", strerror(errno));
+		return -1;
+	}
+	l->skel = s;
+	select_programs(s->obj, l->tp_btf, o->can);
+	if (o->floor)	/* none of ours: floor_start attaches the empty ones */
+		bpf_object__for_each_program(p, s->obj)
+			bpf_program__set_autoload(p, false);
+	s->rodata->cfg_ewma_w = o->ewma_w;
+	s->rodata->cfg_period = o->period_ns;
+	s->rodata->cfg_warmup = o->warmup_ns;
+	s->rodata->cfg_rt = o->targets.rt;
+	s->rodata->cfg_cgroup = o->targets.cgroup != NULL || o->unit;
+	s->rodata->cfg_ncomm = o->targets.ncomms;
+	s->rodata->cfg_record = o->record_path || o->perfetto_path;
+	s->rodata->cfg_follow = o->cmd != NULL;
+	s->rodata->cfg_can_nif = o->ncan;
+	for (i = 0; i < o->ncan; i++)
+		((__u32 *)s->rodata->cfg_can_if)[i] = o->can_ifindex[i];
+	s->rodata->cfg_canopen = o->canopen;
+	bpf_map__set_max_entries(s->maps.can_ids, o->can_max_ids);
+	for (i = 0; i < o->targets.ncomms; i++)
+		memcpy((char *)s->rodata->cfg_comms[i], o->targets.comms[i], RTSUP_COMM_LEN);
+	bpf_map__set_max_entries(s->maps.threads, o->max_threads);
+	bpf_map__set_max_entries(s->maps.unsafe_sys, o->max_threads * 4);
+	bpf_map__set_max_entries(s->maps.thread_cfg, o->max_threads);
+	/* a cycle record per cycle: 4 MiB hold seconds of a busy machine */
+	if (s->rodata->cfg_record)
+		bpf_map__set_max_entries(s->maps.cycles, 4 << 20);
+
+	err = rtsup_bpf__load(s);
+	if (err) {
+		fprintf(stderr, "rtsup-trace: loading the BPF programs failed: %s "
+				"(run with -v for the verifier's log)\n", strerror(-err));
+		goto fail;
+	}
+	if (fill_sysclass(s, o))
+		goto fail;
+	if (o->targets.cgroup) {
+		__u32 zero = 0;
+
+		l->cgroup_fd = open(o->targets.cgroup, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+		if (l->cgroup_fd < 0 ||
+		    bpf_map_update_elem(bpf_map__fd(s->maps.cgroup), &zero, &l->cgroup_fd, BPF_ANY)) {
+			fprintf(stderr, "rtsup-trace: --cgroup '%s': %s (want a cgroup v2 directory)\n",
+				o->targets.cgroup, strerror(errno));
+			goto fail;
+		}
+	}
+	err = rtsup_bpf__attach(s);
+	if (!err && o->floor)
+		err = floor_start(l, o);
+	if (err) {
+		fprintf(stderr, "rtsup-trace: attaching the BPF programs failed: %s\n",
+			strerror(-err));
+		goto fail;
+	}
+	/* BPF statistics cost two clock reads per program run machine-wide:
+	 * the main loop switches them on only for its sampling windows */
+	return 0;
+fail:
+	loader_stop(l);
+	return -1;
+}
+
+long long loader_run_time(const struct loader *l)
+{
+	struct bpf_prog_info info;
+	struct bpf_program *p;
+	__u32 len;
+	long long sum = 0;
+
+	/* with --floor, the empty programs are the ones that run */
+	bpf_object__for_each_program(p, l->floor ? l->floor->obj : l->skel->obj) {
+		int fd = bpf_program__fd(p);
+
+		if (fd < 0)
+			continue;	/* the program set we did not load */
+		memset(&info, 0, sizeof(info));
+		len = sizeof(info);
+		if (bpf_obj_get_info_by_fd(fd, &info, &len))
+			return -1;
+		sum += info.run_time_ns;
+	}
+	return sum;
+}
+
+int loader_stats(struct loader *l, bool on)
+{
+	if (on && l->stats_fd < 0)
+		l->stats_fd = bpf_enable_stats(BPF_STATS_RUN_TIME);
+	else if (!on && l->stats_fd >= 0) {
+		close(l->stats_fd);
+		l->stats_fd = -1;
+	}
+	return on && l->stats_fd < 0 ? -1 : 0;
+}
+
+void loader_stop(struct loader *l)
+{
+	if (l->stats_fd >= 0)
+		close(l->stats_fd);
+	l->stats_fd = -1;
+	rtsup_empty_bpf__destroy(l->floor);
+	l->floor = NULL;
+	rtsup_bpf__destroy(l->skel);
+	l->skel = NULL;
+	if (l->cgroup_fd >= 0)
+		close(l->cgroup_fd);
+	l->cgroup_fd = -1;
+}

@@ -1,0 +1,174 @@
+/* SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause */
+/*
+ * model.h - what userspace knows about each thread: the last snapshot
+ * of its kernel entry and the numbers derived from it, per interval and
+ * over its lifetime. Plain C, no kernel, so the unit tests cover it.
+ */
+#ifndef RTSUP_MODEL_H
+#define RTSUP_MODEL_H
+
+#include <stdbool.h>
+#include <linux/types.h>
+#include "rtsup.h"
+#include "judge/status.h"
+
+/*
+ * Lifetime bucket counts of a thread's metrics, summed from interval
+ * differences: the kernel's __u32 buckets wrap, these do not. And the last
+ * interval's counts, for the histograms of an interval (--hist-interval).
+ */
+struct life_hist {
+	__u64 h[RTSUP_M_NR][HIST_BUCKETS];
+	__u32 win[RTSUP_M_NR][HIST_BUCKETS];
+};
+
+/* One metric, in ns, over a window or a lifetime. */
+struct metric_view {
+	__u64 count;
+	__u64 min;
+	__u64 max;
+	double mean;
+	double ewma;
+	__u64 p50;
+	__u64 p99;
+	__u64 p999;
+};
+
+/* Counters and metrics over one span (an interval or the lifetime). */
+struct span_view {
+	__u64 cycles;
+	__u64 misses;
+	__u64 overruns;
+	__u64 vol_cs;
+	__u64 invol_cs;
+	__u64 unseen_in;	/* activations whose switch-in no hook saw */
+	__u64 compat_sys;	/* 32-bit syscalls, not classified */
+	__u64 migrations;
+	__u64 syscalls;
+	__u64 signals;
+	__u64 minflt;
+	__u64 majflt;
+	__u64 unsafe[RTSUP_U_NR];
+	__u64 unsafe_total;
+	struct metric_view m[RTSUP_M_NR];
+};
+
+/* Unsafe syscalls of one thread, by number. */
+struct sys_count {
+	int nr;
+	__u64 total;
+	__u64 prev;	/* total at the end of the previous interval */
+};
+
+#define MODEL_MAX_SYS 32
+
+struct thread_model {
+	__u32 tid;
+	__u32 tgid;
+	char comm[RTSUP_COMM_LEN];
+	int policy;		/* -1 when the thread is gone */
+	int prio;
+	char cpus[64];		/* allowed CPUs as a list, e.g. "0-3" */
+	bool alive;
+	bool reported_exit;
+	bool seen;		/* its entry was in the last read of the thread map */
+	struct rtsup_thread cur;	/* the last snapshot of the kernel entry */
+	/*
+	 * Computed once per snapshot (model_set) for every check and sink:
+	 * the interval (this snapshot minus the one before) and the lifetime.
+	 */
+	struct span_view win;
+	struct span_view life;
+	bool judged;			/* supervised in an earlier interval */
+	struct rtsup_thread *snap;	/* replay only: cur at the last interval */
+	struct life_hist *life_hist;	/* lifetime bucket counts, NULL until a snapshot */
+	int nsys;
+	struct sys_count sys[MODEL_MAX_SYS];
+	/* supervision: filled by the supervisor, read by the sinks */
+	char pcomm[RTSUP_COMM_LEN];	/* the process's name */
+	char cgroup[256];		/* cgroup v2 path, "" if unknown */
+	int rule;			/* index of the matching rule, -1 = defaults */
+	__u32 rule_gen;			/* config generation 'rule' belongs to, 0 = none */
+	__u32 cfg_gen;			/* config generation written to the kernel */
+	__u32 restarted_from;		/* tid of the dead instance it replaces */
+	bool replaced;			/* a restarted instance took its place */
+	bool was_rt;			/* it ran with an RT policy at some point */
+	bool kthread;			/* a kernel thread (PF_KTHREAD) */
+	struct status st;		/* verdict of the last interval */
+	enum level worst;		/* worst level ever reached */
+	__u64 dead_seq;			/* order of death, set by model_prune_dead */
+};
+
+struct model {
+	struct thread_model *t;
+	int n;
+	int cap;
+	__u64 dead_seq;			/* last order of death handed out */
+	__u64 forgotten;		/* exited threads dropped by model_prune_dead */
+};
+
+/* Exited threads kept for the summary; older ones are forgotten (weeks of churn). */
+#define MODEL_KEEP_DEAD 1024
+
+/* hist_percentile - q-quantile (0 < q <= 1) of cur - prev (prev may be NULL) */
+__u64 hist_percentile(const __u32 *cur, const __u32 *prev, double q, __u64 min,
+		      __u64 max);
+/* hist_percentile64 - q-quantile of bucket counts h, values within [min, max] */
+__u64 hist_percentile64(const __u64 *h, double q, __u64 min, __u64 max);
+/* hist_delta - bucket counts cur - prev (prev may be NULL), modulo 2^32 */
+void hist_delta(const __u32 *cur, const __u32 *prev, __u64 *out);
+
+/*
+ * metric_view_counts - a lifetime view whose percentiles come from the
+ * bucket counts h (NULL: the kernel's own buckets)
+ */
+void metric_view_counts(const struct rtsup_metric_stats *s, const __u64 *h,
+			struct metric_view *v);
+/* metric_view_life - a metric over the thread's lifetime */
+void metric_view_life(const struct rtsup_metric_stats *s, struct metric_view *v);
+/*
+ * metric_view_window - a metric over the last interval: the difference of
+ * two snapshots; min/max come from the interval bank 'bank'.
+ */
+void metric_view_window(const struct rtsup_metric_stats *cur,
+			const struct rtsup_metric_stats *prev, __u32 bank,
+			struct metric_view *v);
+
+/* span_life / span_window - counters and metrics of a thread */
+void span_life(const struct rtsup_thread *t, struct span_view *s);
+void span_window(const struct rtsup_thread *cur, const struct rtsup_thread *prev,
+		 __u32 bank, struct span_view *s);
+
+/*
+ * model_set - a new snapshot of the thread's kernel entry; its interval
+ * view is the change since the previous one (none yet: since the start)
+ */
+void model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank);
+/* model_views - the interval (t minus prev, NULL: since the start) and lifetime views */
+void model_views(struct thread_model *tm, const struct rtsup_thread *t,
+		 const struct rtsup_thread *prev, __u32 bank);
+/* model_idle - no snapshot this interval: an empty interval view */
+void model_idle(struct thread_model *tm);
+
+/* model_get - the thread's model, created (zeroed) when 'create' */
+struct thread_model *model_get(struct model *m, __u32 tid, bool create);
+/* model_remove - forget a thread */
+void model_remove(struct model *m, __u32 tid);
+/*
+ * model_prune_dead - keep at most 'keep' threads that exited and were
+ * reported (reported_exit), the most recent ones; count the others in
+ * m->forgotten. Memory stays bounded however many threads come and go.
+ */
+void model_prune_dead(struct model *m, int keep);
+/* model_sys_add - set the lifetime count of one unsafe syscall */
+void model_sys_set(struct thread_model *tm, int nr, __u64 total);
+void model_free(struct model *m);
+
+/* unsafe_reason_name - JSON/table name of an unsafe reason */
+const char *unsafe_reason_name(int reason);
+/* metric_name - JSON name of a metric */
+const char *metric_name(int metric);
+/* policy_name - "SCHED_FIFO"... */
+const char *policy_name(int policy);
+
+#endif

@@ -1,0 +1,44 @@
+/* SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause */
+/*
+ * robot.h - what a long-running rtsup-trace on a robot adds to the live
+ * loop: systemd readiness, status and watchdog, the journal, the
+ * Prometheus exporters and --unit. main.c calls these at fixed points; each
+ * is a no-op when its option is not given.
+ */
+#ifndef RTSUP_ROBOT_H
+#define RTSUP_ROBOT_H
+
+#include <stdbool.h>
+#include "collect/collector.h"
+#include "options.h"
+#include "sinks/prom.h"
+#include "sinks/promexp.h"
+#include "robot/service.h"
+#include "judge/supervise.h"
+#include "robot/unit.h"
+
+struct robot {
+	const struct options *o;
+	struct service sv;
+	struct promexp pe;
+	struct unit_follow unit;
+	struct prom_buf buf;
+	bool started;
+	bool stopped;
+};
+
+/* robot_prepare - before loading: systemd's settings, --unit; the supervisor's log hook */
+int robot_prepare(struct robot *r, const struct options *o, struct supervisor *s);
+/* robot_start - after attach: --unit's cgroup, exporters, first metrics, READY=1 */
+int robot_start(struct robot *r, struct collector *c, const struct supervisor *s);
+/* robot_tick - every pass of the main loop (at least every 100 ms): watchdog */
+void robot_tick(struct robot *r);
+/* robot_interval - after the verdicts of an interval: metrics, STATUS=, --unit */
+void robot_interval(struct robot *r, struct collector *c, const struct supervisor *s,
+		    __u64 now);
+/* robot_reload - around a SIGHUP reload */
+void robot_reload(struct robot *r, bool done);
+/* robot_stop - STOPPING=1, exporters down; safe to call more than once */
+void robot_stop(struct robot *r);
+
+#endif

@@ -1,0 +1,662 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/* output.c - table and JSON sinks */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+#include <jansson.h>
+#include "sinks/output.h"
+#include "sinks/output_hist.h"
+#include "model/syscalls.h"
+#include "sinks/output_can.h"
+
+#define MAX_EVENT_LINES 10
+
+static const char *const event_names[] = {
+	[RTSUP_EV_MISS] = "deadline_miss",
+	[RTSUP_EV_UNSAFE] = "unsafe",
+	[RTSUP_EV_EXIT] = "exit",
+	[RTSUP_EV_NEW] = "new_thread",
+	[RTSUP_EV_SIGNAL] = "signal",
+};
+
+/* use_color - colour only on a terminal, unless told */
+static bool use_color(const struct options *o)
+{
+	return o->color < 0 ? isatty(STDOUT_FILENO) : o->color;
+}
+
+/* fmt_time - wall-clock time of a monotonic timestamp, ISO 8601 UTC */
+static void fmt_time(const struct collector *c, __u64 mono, char *buf, size_t len)
+{
+	/* unsigned: a damaged trace's times wrap instead of overflowing (fuzz_record) */
+	__s64 real = (__s64)(mono + (__u64)c->real_off);
+	time_t s = real / 1000000000LL;
+	struct tm tm;
+
+	gmtime_r(&s, &tm);
+	strftime(buf, len, "%Y-%m-%dT%H:%M:%S", &tm);
+	snprintf(buf + strlen(buf), len - strlen(buf), ".%03lldZ",
+		 (long long)(real % 1000000000LL) / 1000000);
+}
+
+/* ---- JSON ---- */
+
+/* json_metric - one metric view */
+static json_t *json_metric(const struct metric_view *v)
+{
+	if (!v->count)
+		return json_pack("{s:I}", "count", (json_int_t)0);
+	return json_pack("{s:I,s:I,s:I,s:f,s:f,s:I,s:I,s:I}", "count", (json_int_t)v->count,
+			 "min", (json_int_t)v->min, "max", (json_int_t)v->max, "mean", v->mean,
+			 "ewma", v->ewma, "p50", (json_int_t)v->p50, "p99", (json_int_t)v->p99,
+			 "p999", (json_int_t)v->p999);
+}
+
+/* json_span - counters and metrics over one span */
+static json_t *json_span(const struct span_view *s, const struct thread_model *tm,
+			 bool window)
+{
+	json_t *o = json_object(), *u = json_object(), *sys = json_object();
+	int i;
+
+	json_object_set_new(o, "cycles", json_integer(s->cycles));
+	json_object_set_new(o, "deadline_misses", json_integer(s->misses));
+	json_object_set_new(o, "overruns", json_integer(s->overruns));
+	for (i = 0; i < RTSUP_M_NR; i++)
+		json_object_set_new(o, metric_name(i), json_metric(&s->m[i]));
+	for (i = 0; i < RTSUP_U_NR; i++)
+		json_object_set_new(u, unsafe_reason_name(i), json_integer(s->unsafe[i]));
+	json_object_set_new(u, "total", json_integer(s->unsafe_total));
+	json_object_set_new(o, "unsafe", u);
+	for (i = 0; i < tm->nsys; i++) {
+		const char *name = syscall_name(tm->sys[i].nr);
+		__u64 n = tm->sys[i].total - (window ? tm->sys[i].prev : 0);
+		char buf[16];
+
+		if (!name) {
+			snprintf(buf, sizeof(buf), "sys_%d", tm->sys[i].nr);
+			name = buf;
+		}
+		if (n)
+			json_object_set_new(sys, name, json_integer(n));
+	}
+	json_object_set_new(o, "unsafe_syscalls", sys);
+	json_object_set_new(o, "context_switches",
+			    json_pack("{s:I,s:I,s:I}", "voluntary", (json_int_t)s->vol_cs,
+				      "involuntary", (json_int_t)s->invol_cs,
+				      "unseen_switch_ins", (json_int_t)s->unseen_in));
+	json_object_set_new(o, "page_faults",
+			    json_pack("{s:I,s:I}", "minor", (json_int_t)s->minflt,
+				      "major", (json_int_t)s->majflt));
+	json_object_set_new(o, "migrations", json_integer(s->migrations));
+	json_object_set_new(o, "syscalls", json_integer(s->syscalls));
+	json_object_set_new(o, "compat_syscalls", json_integer(s->compat_sys));
+	json_object_set_new(o, "signals", json_integer(s->signals));
+	return o;
+}
+
+/* json_checks - per message, for machines: check, level, text and numbers */
+static json_t *json_checks(const struct status_fact *f, int n, const char *const *text)
+{
+	json_t *a = json_array(), *counts;
+	int i, j;
+
+	for (i = 0; i < n; i++) {
+		counts = json_object();
+		for (j = 0; j < f[i].ncounts; j++)
+			json_object_set_new(counts, f[i].counts[j].key,
+					    json_integer(f[i].counts[j].val));
+		json_array_append_new(a, json_pack("{s:s,s:s,s:s,s:o}", "check", f[i].check,
+						   "level", level_name(f[i].level),
+						   "text", text[i], "counts", counts));
+	}
+	return a;
+}
+
+/* json_status - a component's level and messages */
+static json_t *json_status(const struct status *st)
+{
+	const char *text[STATUS_MAX_MSGS];
+	json_t *m = json_array();
+	int i;
+
+	for (i = 0; i < st->nmsg; i++) {
+		json_array_append_new(m, json_string(st->msg[i]));
+		text[i] = st->msg[i];
+	}
+	return json_pack("{s:s,s:o,s:o}", "level", level_name(st->level), "messages", m,
+			 "checks", json_checks(st->fact, st->nmsg, text));
+}
+
+/* json_thread - identity of a thread plus the requested spans */
+static json_t *json_thread(const struct collector *c, const struct supervisor *sv,
+			   const struct thread_model *tm, bool window)
+{
+	static const char *const modes[] = { "none", "activation", "delimiter" };
+	json_t *o;
+
+	o = json_pack("{s:i,s:i,s:s,s:s,s:i,s:s,s:b,s:s}", "tid", tm->tid, "tgid", tm->tgid,
+		      "comm", tm->comm, "policy", policy_name(tm->policy), "prio", tm->prio,
+		      "cpus", tm->cpus[0] ? tm->cpus : "-", "alive", tm->alive, "mode",
+		      modes[tm->cur.cs.mode < 3 ? tm->cur.cs.mode : 0]);
+	if (tm->cur.exited) {
+		json_object_set_new(o, "exit_mid_cycle", json_boolean(tm->cur.exit_mid_cycle));
+		json_object_set_new(o, "exit_code", json_integer(tm->cur.exit_code));
+		if (tm->cur.exit_mid_cycle) {
+			/* the teardown inside the cut cycle, kept out of the totals */
+			json_t *u = json_object();
+			int i;
+
+			for (i = 0; i < RTSUP_U_NR; i++)
+				json_object_set_new(u, unsafe_reason_name(i),
+						    json_integer(tm->cur.exit_unsafe[i]));
+			json_object_set_new(o, "exit_cycle_unsafe", u);
+		}
+	}
+	json_object_set_new(o, "process", json_string(tm->pcomm));
+	json_object_set_new(o, "kernel_thread", json_boolean(tm->kthread));
+	json_object_set_new(o, "status", json_status(&tm->st));
+	json_object_set_new(o, "worst_level", json_string(level_name(tm->worst)));
+	if (tm->rule >= 0 && tm->rule_gen == sv->gen)
+		json_object_set_new(o, "rule", json_string(supervise_rule(sv, tm)->name));
+	if (window)
+		json_object_set_new(o, "interval", json_span(&tm->win, tm, true));
+	json_object_set_new(o, "total", json_span(&tm->life, tm, false));
+	/* --hist: the summary's lifetime ones, and each interval's with --hist-interval */
+	if (c->o->hist && hist_shown(tm) && (!window || c->o->hist_interval))
+		json_object_set_new(json_object_get(o, window ? "interval" : "total"), "hist",
+				    hist_json(tm, c->o->hist, window));
+	return o;
+}
+
+/* json_event - one rare event */
+static json_t *json_event(const struct collector *c, const struct rtsup_event *e)
+{
+	char when[40];
+	json_t *o;
+
+	fmt_time(c, e->ts, when, sizeof(when));
+	o = json_pack("{s:s,s:s,s:i,s:i,s:s,s:i}", "time", when, "event",
+		      e->type < sizeof(event_names) / sizeof(event_names[0]) &&
+		      event_names[e->type] ? event_names[e->type] : "unknown",
+		      "tid", e->tid, "tgid", e->tgid, "comm", e->comm, "cpu", e->cpu);
+	switch (e->type) {
+	case RTSUP_EV_MISS:
+		json_object_set_new(o, "late_ns", json_integer(e->arg));
+		break;
+	case RTSUP_EV_UNSAFE:
+		json_object_set_new(o, "reason", json_string(unsafe_reason_name(e->arg)));
+		if (e->arg == RTSUP_U_SYSCALL && syscall_name(e->arg2))
+			json_object_set_new(o, "syscall", json_string(syscall_name(e->arg2)));
+		else if (e->arg == RTSUP_U_MINFLT || e->arg == RTSUP_U_MAJFLT)
+			json_object_set_new(o, "count", json_integer(e->arg2));
+		break;
+	case RTSUP_EV_EXIT:
+		json_object_set_new(o, "mid_cycle", json_boolean(e->arg));
+		break;
+	case RTSUP_EV_SIGNAL:
+		json_object_set_new(o, "signal", json_integer(e->arg));
+		break;
+	}
+	return o;
+}
+
+/*
+ * json_fold - a flood of one kind for one thread: how many of its events
+ * are not in "events" (the first and last EVENTLOG_KEEP are)
+ */
+static json_t *json_fold(const struct collector *c, const struct event_fold *f)
+{
+	struct rtsup_event e = { .ts = f->first_ts, .type = f->type, .tid = f->tid };
+	char first[40], last[40];
+	json_t *o;
+
+	/* the kind's fields as json_event writes them */
+	if (f->type == RTSUP_EV_UNSAFE) {
+		e.arg = f->kind >> 32;
+		e.arg2 = f->kind & 0xffffffff;
+	} else {
+		e.arg = f->kind;
+	}
+	memcpy(e.comm, f->comm, sizeof(e.comm));
+	o = json_event(c, &e);
+	json_object_del(o, "time");
+	json_object_del(o, "cpu");
+	json_object_del(o, "tgid");
+	json_object_del(o, "late_ns");
+	json_object_del(o, "count");
+	fmt_time(c, f->first_ts, first, sizeof(first));
+	fmt_time(c, f->last_ts, last, sizeof(last));
+	json_object_update_new(o, json_pack("{s:I,s:I,s:s,s:s}", "seen", (json_int_t)f->seen,
+					    "folded", (json_int_t)f->folded, "first", first,
+					    "last", last));
+	return o;
+}
+
+/* json_common - the fields every report carries */
+static json_t *json_common(const struct collector *c, const struct supervisor *sv,
+			   const char *type, double elapsed)
+{
+	char when[40];
+
+	fmt_time(c, mono_now(), when, sizeof(when));
+	return json_pack("{s:s,s:s,s:f,s:I,s:I,s:I,s:I,s:{s:o,s:s,s:o}}", "type", type, "time", when,
+			 "elapsed_s", elapsed,
+			 "lost_events", (json_int_t)c->counters[RTSUP_C_RB_DROPS],
+			 "lost_cycle_records", (json_int_t)c->counters[RTSUP_C_CYC_DROPS],
+			 "untracked_threads", (json_int_t)c->counters[RTSUP_C_MAP_FULL],
+			 "untracked_syscall_counts", (json_int_t)c->counters[RTSUP_C_SYS_FULL],
+			 "supervisor", "status", json_status(&sv->self), "worst_level",
+			 level_name(sv->self_worst), "bpf_overhead_pct",
+			 sv->overhead_pct >= 0 ? json_real(sv->overhead_pct) : json_null());
+}
+
+/*
+ * A report is one line of JSON, written piece by piece: a document holding
+ * a thousand threads at once cost tens of MiB and most of the CPU time.
+ */
+
+/*
+ * json_put - one value, compact (freed). Encoded into a buffer kept across
+ * calls and written at once: json_dumpf writes token by token, and those
+ * small locked writes were a quarter of the CPU time.
+ */
+static void json_put(json_t *v)
+{
+	static char *buf;
+	static size_t cap;
+	size_t n;
+
+	if (!v) {
+		fputs("null", stdout);
+		return;
+	}
+	n = json_dumpb(v, buf, cap, JSON_COMPACT | JSON_ENCODE_ANY);
+	if (n > cap) {
+		char *b = realloc(buf, n * 2);
+
+		if (b) {
+			buf = b;
+			cap = n * 2;
+			n = json_dumpb(v, buf, cap, JSON_COMPACT | JSON_ENCODE_ANY);
+		}
+	}
+	if (n <= cap)
+		fwrite(buf, 1, n, stdout);
+	else	/* no memory for the buffer: slower, still whole */
+		json_dumpf(v, stdout, JSON_COMPACT | JSON_ENCODE_ANY);
+	json_decref(v);
+}
+
+/* json_fields - an object's fields without its braces (freed), after a comma */
+static void json_fields(json_t *o, bool comma)
+{
+	char *s = json_dumps(o, JSON_COMPACT);
+	size_t n = s ? strlen(s) : 0;
+
+	if (n > 2)
+		printf("%s%.*s", comma ? "," : "", (int)(n - 2), s + 1);
+	free(s);
+	json_decref(o);
+}
+
+/* json_open - a report's first fields (json_common: never empty), left open */
+static void json_open(json_t *o)
+{
+	putchar('{');
+	json_fields(o, false);
+}
+
+/* json_print - one object, one line, flushed */
+static void json_print(json_t *o)
+{
+	json_put(o);
+	fputc('\n', stdout);
+	fflush(stdout);
+}
+
+/* json_key - ,"key": before a value streamed into an open object */
+static void json_key(const char *key)
+{
+	printf(",\"%s\":", key);
+}
+
+/* json_threads - the threads array, one thread object at a time */
+static void json_threads(const struct collector *c, const struct supervisor *sv, bool window)
+{
+	bool first = true;
+	int i;
+
+	json_key("threads");
+	putchar('[');
+	for (i = 0; i < c->model.n; i++) {
+		if (window && c->model.t[i].reported_exit)
+			continue;
+		if (!first)
+			putchar(',');
+		first = false;
+		json_put(json_thread(c, sv, &c->model.t[i], window));
+	}
+	putchar(']');
+}
+
+/* json_close - the last field, the end of the line, flushed */
+static void json_close(const char *key, json_t *v)
+{
+	json_key(key);
+	json_put(v);
+	fputs("}\n", stdout);
+	fflush(stdout);
+}
+
+static void json_interval(const struct collector *c, const struct supervisor *sv,
+			  double elapsed, double interval)
+{
+	json_t *o = json_common(c, sv, "interval", elapsed);
+	int i;
+
+	json_object_set_new(o, "interval_s", json_real(interval));
+	json_open(o);
+	json_threads(c, sv, true);
+	if (sv->can) {
+		json_key("can");
+		json_put(can_json(sv->can, &sv->cfg, sv->now, interval, false));
+	}
+	json_key("events");
+	putchar('[');
+	for (i = 0; i < (int)c->events.n; i++) {
+		if (i)
+			putchar(',');
+		json_put(json_event(c, &c->events.ev[i]));
+	}
+	putchar(']');
+	json_key("events_folded");
+	putchar('[');
+	for (i = 0; i < (int)c->events.nflood; i++) {
+		if (i)
+			putchar(',');
+		json_put(json_fold(c, &c->events.fold[i]));
+	}
+	putchar(']');
+	json_close("events_not_shown", json_integer(c->events.folded + c->events.dropped));
+}
+
+static void json_summary(const struct collector *c, const struct supervisor *sv,
+			 double elapsed)
+{
+	json_t *o = json_common(c, sv, "summary", elapsed), *vs = json_array();
+	char when[40];
+	int i;
+
+	json_object_set_new(o, "events_total", json_integer(c->events_total));
+	json_open(o);
+	json_threads(c, sv, false);
+	o = json_object();
+	if (sv->can) {
+		json_t *can = can_json(sv->can, &sv->cfg, sv->now, 0, true);
+
+		if (c->o->hist)
+			hist_can_json(can, sv->can);
+		json_object_set_new(o, "can", can);
+	}
+	for (i = 0; i < sv->nv; i++) {
+		const struct violation *v = &sv->v[i];
+		const char *text[STATUS_MAX_MSGS];
+		int k;
+
+		/* the joined "what" holds the texts; each check lists its facts */
+		for (k = 0; k < v->nfact; k++)
+			text[k] = v->text[k];
+		fmt_time(c, v->mono_ns, when, sizeof(when));
+		json_array_append_new(vs, json_pack("{s:s,s:s,s:s,s:s,s:o}", "time", when,
+						    "component", v->component, "level",
+						    level_name(v->level), "what", v->what, "checks",
+						    json_checks(v->fact, v->nfact, text)));
+	}
+	json_object_set_new(o, "violations", vs);
+	json_object_set_new(o, "violations_not_listed", json_integer(sv->v_dropped));
+	json_fields(o, true);	/* the small rest, after the threads */
+	json_close("worst_level", json_string(level_name(supervise_worst(sv, &c->model))));
+}
+
+/* ---- table ---- */
+
+/* us - a time cell in microseconds, '-' when empty */
+static void us(char *buf, size_t len, __u64 count, double ns)
+{
+	if (!count)
+		snprintf(buf, len, "-");
+	else
+		snprintf(buf, len, "%.1f", ns / 1000.0);
+}
+
+static void table_header(const char *title)
+{
+	printf("%s\n", title);
+	printf("%7s %-15s %-9s %7s %17s %26s %26s %5s %6s %13s %s\n", "", "", "", "",
+	       "PERIOD (us)", "EXEC (us)", "LATENCY (us)", "", "", "", "");
+	printf("%7s %-15s %-9s %7s %8s %8s %8s %8s %8s %8s %8s %8s %5s %6s %13s %s\n", "TID",
+	       "COMM", "POL/PRI", "CYCLES", "avg", "max", "avg", "p99", "max", "avg", "p99",
+	       "max", "MISS", "UNSAFE", "CSW vol/inv", "STATUS");
+}
+
+static void table_row(const struct thread_model *tm, const struct span_view *s,
+		      enum level level, bool color)
+{
+	char pol[16], c[9][16], csw[32];
+	const struct metric_view *p = &s->m[RTSUP_M_PERIOD], *e = &s->m[RTSUP_M_EXEC],
+				 *l = &s->m[RTSUP_M_LATENCY];
+	const char *on = "", *off = "";
+
+	if (tm->policy >= 0)
+		snprintf(pol, sizeof(pol), "%.5s/%d",
+			 policy_name(tm->policy) + (tm->policy <= 7 ? 6 : 0), tm->prio);
+	else
+		snprintf(pol, sizeof(pol), "exited");
+	us(c[0], 16, p->count, p->mean);
+	us(c[1], 16, p->count, p->max);
+	us(c[2], 16, e->count, e->mean);
+	us(c[3], 16, e->count, e->p99);
+	us(c[4], 16, e->count, e->max);
+	us(c[5], 16, l->count, l->mean);
+	us(c[6], 16, l->count, l->p99);
+	us(c[7], 16, l->count, l->max);
+	snprintf(csw, sizeof(csw), "%llu/%llu", (unsigned long long)s->vol_cs,
+		 (unsigned long long)s->invol_cs);
+	if (color && level == LEVEL_ERROR) {
+		on = "\033[31m";
+		off = "\033[0m";
+	} else if (color && level == LEVEL_WARN) {
+		on = "\033[33m";
+		off = "\033[0m";
+	}
+	printf("%s%7u %-15.15s %-9s %7llu %8s %8s %8s %8s %8s %8s %8s %8s %5llu %6llu %13s %s%s\n",
+	       on, tm->tid, tm->comm, pol, (unsigned long long)s->cycles, c[0], c[1], c[2],
+	       c[3], c[4], c[5], c[6], c[7], (unsigned long long)s->misses,
+	       (unsigned long long)s->unsafe_total, csw, level_name(level), off);
+}
+
+/* table_event - one line per rare event */
+static void table_event(const struct collector *c, const struct rtsup_event *e)
+{
+	char when[40], what[96];
+	const char *sys;
+
+	fmt_time(c, e->ts, when, sizeof(when));
+	switch (e->type) {
+	case RTSUP_EV_MISS:
+		snprintf(what, sizeof(what), "deadline miss, %.1f us late", e->arg / 1000.0);
+		break;
+	case RTSUP_EV_UNSAFE:
+		sys = e->arg == RTSUP_U_SYSCALL ? syscall_name(e->arg2) : NULL;
+		snprintf(what, sizeof(what), "RT-unsafe: %s%s%s", unsafe_reason_name(e->arg),
+			 sys ? " " : "", sys ? sys : "");
+		break;
+	case RTSUP_EV_EXIT:
+		snprintf(what, sizeof(what), "exited%s", e->arg ? " mid-cycle" : "");
+		break;
+	case RTSUP_EV_NEW:
+		snprintf(what, sizeof(what), "new target thread");
+		break;
+	case RTSUP_EV_SIGNAL:
+		snprintf(what, sizeof(what), "signal %llu", (unsigned long long)e->arg);
+		break;
+	default:
+		snprintf(what, sizeof(what), "event %u", e->type);
+	}
+	printf("  %s %7u %-15.15s %s\n", when + 11, e->tid, e->comm, what);
+}
+
+/* table_messages - why each component is not OK, under the table */
+static void table_messages(const struct collector *c, const struct supervisor *sv)
+{
+	int i, j;
+
+	for (i = 0; i < c->model.n; i++) {
+		const struct thread_model *tm = &c->model.t[i];
+
+		if (tm->reported_exit || !tm->st.nmsg)
+			continue;
+		for (j = 0; j < tm->st.nmsg; j++)
+			printf("  %-5s %s[%u]: %s\n", level_name(tm->st.level), tm->comm, tm->tid,
+			       tm->st.msg[j]);
+	}
+	for (j = 0; j < sv->self.nmsg; j++)
+		printf("  %-5s rtsup-trace: %s\n", level_name(sv->self.level), sv->self.msg[j]);
+}
+
+static void table_interval(const struct collector *c, const struct supervisor *sv,
+			   double elapsed, double interval)
+{
+	bool color = use_color(c->o);
+	char title[160];
+	int i, shown = 0, live = 0;
+	__u64 hidden = 0;
+
+	for (i = 0; i < c->model.n; i++)
+		live += c->model.t[i].alive;
+	snprintf(title, sizeof(title),
+		 "rtsup-trace  %.0f s  interval %.2f s  threads %d  lost events %llu%s",
+		 elapsed, interval, live, (unsigned long long)c->counters[RTSUP_C_RB_DROPS],
+		 c->counters[RTSUP_C_MAP_FULL] ? "  (thread map full!)" : "");
+	/* a CAN-only run has no thread table */
+	if (c->model.n || !sv->can)
+		table_header(title);
+	else
+		printf("%s\n", title);
+	for (i = 0; i < c->model.n; i++) {
+		const struct thread_model *tm = &c->model.t[i];
+
+		if (tm->reported_exit)
+			continue;
+		table_row(tm, &tm->win, tm->st.level, color);
+	}
+	table_messages(c, sv);
+	if (sv->can)
+		can_table(sv->can, &sv->cfg, sv->now, interval, false);
+	for (i = 0; i < (int)c->events.n; i++) {
+		const struct rtsup_event *e = &c->events.ev[i];
+
+		/* new-thread notices are noise in a live table; exits always show */
+		if (e->type == RTSUP_EV_NEW)
+			continue;
+		if (shown >= MAX_EVENT_LINES && !eventlog_never_folded(e->type)) {
+			hidden++;
+			continue;
+		}
+		table_event(c, e);
+		shown++;
+	}
+	hidden += c->events.folded + c->events.dropped;
+	if (hidden)
+		printf("  ... %llu more events\n", (unsigned long long)hidden);
+	printf("\n");
+	if (c->o->hist_interval)
+		hist_table(c, sv, true);
+	fflush(stdout);
+}
+
+static void table_summary(const struct collector *c, const struct supervisor *sv,
+			  double elapsed)
+{
+	char when[40];
+	struct span_view s;
+	char title[200];
+	int i, j;
+
+	snprintf(title, sizeof(title),
+		 "rtsup-trace summary over %.1f s: %d threads, %llu rare events, %llu lost, "
+		 "%llu threads not tracked (map full)",
+		 elapsed, c->model.n, (unsigned long long)c->events_total,
+		 (unsigned long long)c->counters[RTSUP_C_RB_DROPS],
+		 (unsigned long long)c->counters[RTSUP_C_MAP_FULL]);
+	if (c->model.n || !sv->can)
+		table_header(title);
+	else
+		printf("%s\n", title);
+	for (i = 0; i < c->model.n; i++)
+		table_row(&c->model.t[i], &c->model.t[i].life, c->model.t[i].worst,
+			  use_color(c->o));
+	/* why each thread lost RT safety, by reason and by syscall */
+	for (i = 0; i < c->model.n; i++) {
+		const struct thread_model *tm = &c->model.t[i];
+
+		span_life(&tm->cur, &s);
+		if (!s.unsafe_total && !s.misses)
+			continue;
+		printf("  %u %s: %llu deadline misses, %llu overruns; unsafe:", tm->tid, tm->comm,
+		       (unsigned long long)s.misses, (unsigned long long)s.overruns);
+		for (j = 0; j < RTSUP_U_NR; j++)
+			if (s.unsafe[j])
+				printf(" %s %llu", unsafe_reason_name(j),
+				       (unsigned long long)s.unsafe[j]);
+		for (j = 0; j < tm->nsys; j++)
+			printf(" %s=%llu", syscall_name(tm->sys[j].nr) ?: "?",
+			       (unsigned long long)tm->sys[j].total);
+		printf("\n");
+	}
+	if (sv->can)
+		can_table(sv->can, &sv->cfg, sv->now, elapsed, true);
+	/* every violation, with when and what */
+	printf("verdict: %s", level_name(supervise_worst(sv, &c->model)));
+	printf(" (%d violations%s)\n", sv->nv + (int)sv->v_dropped,
+	       sv->v_dropped ? ", not all listed" : "");
+	for (i = 0; i < sv->nv; i++) {
+		fmt_time(c, sv->v[i].mono_ns, when, sizeof(when));
+		printf("  %s %-5s %s: %s\n", when + 11, level_name(sv->v[i].level),
+		       sv->v[i].component, sv->v[i].what);
+	}
+	if (c->o->hist) {
+		printf("\n");
+		hist_table(c, sv, false);
+		if (sv->can)
+			hist_can_table(sv->can, c->o);
+	}
+	fflush(stdout);
+}
+
+void output_interval(const struct collector *c, const struct supervisor *s, double elapsed,
+		     double interval)
+{
+	if (c->o->json)
+		json_interval(c, s, elapsed, interval);
+	else
+		table_interval(c, s, elapsed, interval);
+}
+
+void output_summary(const struct collector *c, const struct supervisor *s, double elapsed)
+{
+	if (c->o->json)
+		json_summary(c, s, elapsed);
+	else
+		table_summary(c, s, elapsed);
+}
+
+void output_error(const struct options *o, const char *msg)
+{
+	fprintf(stderr, "rtsup-trace: %s\n", msg);
+	if (o && o->json)
+		json_print(json_pack("{s:s}", "error", msg));
+}

@@ -1,0 +1,216 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/* output_hist.c - the --hist sink: histograms per thread with cycles, text or JSON */
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include <sys/ioctl.h>
+#include "judge/checks.h"
+#include "hist.h"
+#include "sinks/histdraw.h"
+#include "sinks/output_hist.h"
+
+static const char *const titles[RTSUP_M_NR] = {
+	[RTSUP_M_PERIOD] = "period", [RTSUP_M_EXEC] = "exec",
+	[RTSUP_M_CPU] = "cpu", [RTSUP_M_LATENCY] = "latency",
+};
+
+bool hist_shown(const struct thread_model *tm)
+{
+	/*
+	 * every thread with cycles: the table shows the same ones, and a
+	 * short run may end before the thread was seen with its RT policy
+	 */
+	return tm->life.cycles > 0;
+}
+
+/* counts - a thread's bucket counts of metric m (lifetime or last interval) */
+static const __u64 *counts(const struct thread_model *tm, int m, bool window, __u64 *buf)
+{
+	if (tm->life_hist && !window)
+		return tm->life_hist->h[m];
+	if (tm->life_hist)
+		for (int b = 0; b < HIST_BUCKETS; b++)
+			buf[b] = tm->life_hist->win[m][b];
+	else
+		hist_delta(tm->cur.m[m].hist, NULL, buf);
+	return buf;
+}
+
+/*
+ * marks - what the checks compare metric m with, and where its
+ * percentiles are: latency against its max thresholds, exec and cpu
+ * against the share of the period that warns, the period against the
+ * nominal one plus the jitter thresholds
+ */
+static void marks(const struct supervisor *sv, const struct thread_model *tm, int m,
+		  const struct metric_view *v, __u64 *mark)
+{
+	const struct rule *r = supervise_rule(sv, tm);
+	const struct thresholds *th = &r->th;
+	struct check_in in = { .life = &tm->life, .rule = r, .nominal_ns = tm->cur.cs.nominal };
+	__u64 period = check_period(&in);
+
+	memset(mark, 0, HD_NMARKS * sizeof(*mark));
+	switch (m) {
+	case RTSUP_M_LATENCY:
+		mark[HD_WARN] = th->latency_max_warn_ns ? th->latency_max_warn_ns
+							: th->latency_p99_warn_ns;
+		mark[HD_ERROR] = th->latency_max_error_ns;
+		break;
+	case RTSUP_M_EXEC:
+	case RTSUP_M_CPU:
+		if (period && th->exec_warn_ratio)
+			mark[HD_WARN] = (__u64)(th->exec_warn_ratio * (double)period);
+		break;
+	case RTSUP_M_PERIOD:
+		if (period && th->jitter_warn_ns)
+			mark[HD_WARN] = period + th->jitter_warn_ns;
+		if (period && th->jitter_error_ns)
+			mark[HD_ERROR] = period + th->jitter_error_ns;
+		break;
+	}
+	if (!v->count)
+		return;
+	mark[HD_P50] = v->p50;
+	mark[HD_P99] = v->p99;
+	mark[HD_P999] = v->p999;
+	mark[HD_MAX] = v->max;
+}
+
+/* term_width - the terminal's columns; COLUMNS or 80 when not a terminal */
+static int term_width(void)
+{
+	struct winsize ws;
+	const char *e = getenv("COLUMNS");
+
+	if (isatty(STDOUT_FILENO) && !ioctl(STDOUT_FILENO, TIOCGWINSZ, &ws) && ws.ws_col)
+		return ws.ws_col;
+	if (e && atoi(e) >= 40)
+		return atoi(e);
+	return 80;
+}
+
+void hist_table(const struct collector *c, const struct supervisor *sv, bool window)
+{
+	const struct options *o = c->o;
+	bool color = o->color < 0 ? isatty(STDOUT_FILENO) : o->color;
+	struct hd_hist *hs;
+	__u64 (*bufs)[HIST_BUCKETS];
+	int m, i, n;
+
+	hs = calloc(c->model.n ? c->model.n : 1, sizeof(*hs));
+	bufs = calloc(c->model.n ? c->model.n : 1, sizeof(*bufs));
+	if (!hs || !bufs) {
+		fprintf(stderr, "rtsup-trace: --hist: out of memory\n");
+		goto out;
+	}
+	for (m = 0; m < RTSUP_M_NR; m++) {
+		if (!(o->hist & (1u << m)))
+			continue;
+		for (i = 0, n = 0; i < c->model.n; i++) {
+			const struct thread_model *tm = &c->model.t[i];
+			const struct metric_view *v = window ? &tm->win.m[m] : &tm->life.m[m];
+
+			if (!hist_shown(tm) || (window && (tm->reported_exit || !v->count)))
+				continue;
+			snprintf(hs[n].title, sizeof(hs[n].title), "%s[%u] %s%s", tm->comm,
+				 tm->tid, titles[m], window ? " (interval)" : "");
+			hs[n].h = counts(tm, m, window, bufs[n]);
+			marks(sv, tm, m, v, hs[n].mark);
+			n++;
+		}
+		if (n)
+			histdraw_print(stdout, hs, n, term_width(), color);
+	}
+	fflush(stdout);
+out:
+	free(hs);
+	free(bufs);
+}
+
+/* json_buckets - {"count": N, "buckets": [[lo, hi, count], ...]} of counts h */
+static json_t *json_buckets(const __u64 *h)
+{
+	json_t *bk = json_array();
+	__u64 total = 0;
+	int b;
+
+	for (b = 0; b < HIST_BUCKETS; b++) {
+		if (!h[b])
+			continue;
+		total += h[b];
+		/* the last bucket has no upper bound: null */
+		json_array_append_new(bk, json_pack("[I,o,I]", (json_int_t)hist_bucket_low(b),
+			b == HIST_BUCKETS - 1 ? json_null() :
+			json_integer((json_int_t)hist_bucket_high(b)), (json_int_t)h[b]));
+	}
+	return json_pack("{s:I,s:o}", "count", (json_int_t)total, "buckets", bk);
+}
+
+json_t *hist_json(const struct thread_model *tm, unsigned int metrics, bool window)
+{
+	json_t *o = json_object();
+	__u64 buf[HIST_BUCKETS];
+	int m;
+
+	for (m = 0; m < RTSUP_M_NR; m++)
+		if (metrics & (1u << m))
+			json_object_set_new(o, metric_name(m),
+					    json_buckets(counts(tm, m, window, buf)));
+	return o;
+}
+
+/*
+ * hist_can_table - the gaps between frames of each identifier over the
+ * whole run, with their percentiles; a learned period marks nothing: the
+ * CAN checks judge frames missing, not gaps
+ */
+void hist_can_table(const struct can_model *m, const struct options *o)
+{
+	bool color = o->color < 0 ? isatty(STDOUT_FILENO) : o->color;
+	struct hd_hist *hs = calloc(m->n ? m->n : 1, sizeof(*hs));
+	__u64 (*bufs)[HIST_BUCKETS] = calloc(m->n ? m->n : 1, sizeof(*bufs));
+	struct metric_view v;
+	int i, n = 0;
+
+	if (!hs || !bufs) {
+		fprintf(stderr, "rtsup-trace: --hist: out of memory\n");
+		goto out;
+	}
+	for (i = 0; i < m->n; i++) {
+		const struct can_entry *e = &m->e[i];
+
+		if (!e->cur.gap.count)
+			continue;
+		snprintf(hs[n].title, sizeof(hs[n].title), "%s 0x%x%s %s gap",
+			 can_iface_name(m, e->key.ifindex), e->key.can_id & RTSUP_CAN_EFF_MASK,
+			 e->key.can_id & RTSUP_CAN_EFF_FLAG ? "x" : "",
+			 e->key.dir == RTSUP_CAN_TX ? "tx" : "rx");
+		can_gap_life(e, bufs[n]);
+		hs[n].h = bufs[n];
+		can_gap_view_life(e, &v);
+		hs[n].mark[HD_P50] = v.p50;
+		hs[n].mark[HD_P99] = v.p99;
+		hs[n].mark[HD_P999] = v.p999;
+		hs[n].mark[HD_MAX] = v.max;
+		n++;
+	}
+	if (n)
+		histdraw_print(stdout, hs, n, term_width(), color);
+	fflush(stdout);
+out:
+	free(hs);
+	free(bufs);
+}
+
+void hist_can_json(json_t *can, const struct can_model *m)
+{
+	json_t *ids = json_object_get(can, "ids");
+	__u64 buf[HIST_BUCKETS];
+	int i;
+
+	for (i = 0; i < m->n && i < (int)json_array_size(ids); i++) {
+		can_gap_life(&m->e[i], buf);
+		json_object_set_new(json_array_get(ids, i), "gap_hist", json_buckets(buf));
+	}
+}

@@ -1,0 +1,467 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/* prom.c - Prometheus text exposition of threads, verdicts and the supervisor */
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "hist.h"
+#include "sinks/prom.h"
+#include "model/syscalls.h"
+
+/* Histogram bucket bounds in ns: 1 us .. 1 s, then +Inf. */
+static const __u64 le_ns[] = {
+	1000, 2500, 5000, 10000, 25000, 50000, 100000, 250000, 500000,
+	1000000, 2500000, 5000000, 10000000, 25000000, 50000000,
+	100000000, 250000000, 500000000, 1000000000,
+};
+#define NLE (sizeof(le_ns) / sizeof(le_ns[0]))
+
+int prom_level_value(enum level l)
+{
+	switch (l) {
+	case LEVEL_OK: return 0;
+	case LEVEL_WARN: return 1;
+	case LEVEL_ERROR: return 2;
+	case LEVEL_STALE: return 3;
+	}
+	return 2;
+}
+
+/* grow - room for n more bytes plus the terminating NUL */
+static bool grow(struct prom_buf *b, size_t n)
+{
+	size_t cap;
+	char *p;
+
+	if (b->oom)
+		return false;
+	if (b->len + n + 1 <= b->cap)
+		return true;
+	cap = b->cap ? b->cap : 16384;
+	while (cap < b->len + n + 1)
+		cap *= 2;
+	p = realloc(b->p, cap);
+	if (!p) {
+		b->oom = true;
+		return false;
+	}
+	b->p = p;
+	b->cap = cap;
+	return true;
+}
+
+void prom_printf(struct prom_buf *b, const char *fmt, ...)
+{
+	va_list ap;
+	int n;
+
+	va_start(ap, fmt);
+	n = vsnprintf(NULL, 0, fmt, ap);
+	va_end(ap);
+	if (n < 0 || !grow(b, n))
+		return;
+	va_start(ap, fmt);
+	vsnprintf(b->p + b->len, n + 1, fmt, ap);
+	va_end(ap);
+	b->len += n;
+}
+
+/* put_escaped - a label value: backslash, double quote and newline escaped */
+static void put_escaped(struct prom_buf *b, const char *s)
+{
+	for (; *s; s++) {
+		if (*s == '\\' || *s == '"')
+			prom_printf(b, "\\%c", *s);
+		else if (*s == '\n')
+			prom_printf(b, "\\n");
+		else
+			prom_printf(b, "%c", *s);
+	}
+}
+
+void prom_family(struct prom_buf *b, const char *name, const char *type, const char *help)
+{
+	prom_printf(b, "# HELP %s %s\n# TYPE %s %s\n", name, help, name, type);
+}
+
+/* put_labels - {k="v",...} from a NULL-terminated list plus an optional extra pair */
+static void put_labels(struct prom_buf *b, const char *const *labels, const char *k,
+		       const char *v)
+{
+	bool first = true;
+	int i;
+
+	if ((!labels || !labels[0]) && !k)
+		return;
+	prom_printf(b, "{");
+	for (i = 0; labels && labels[i] && labels[i + 1]; i += 2) {
+		prom_printf(b, "%s%s=\"", first ? "" : ",", labels[i]);
+		put_escaped(b, labels[i + 1]);
+		prom_printf(b, "\"");
+		first = false;
+	}
+	if (k) {
+		prom_printf(b, "%s%s=\"", first ? "" : ",", k);
+		put_escaped(b, v);
+		prom_printf(b, "\"");
+	}
+	prom_printf(b, "}");
+}
+
+/* put_value - integers exactly, other numbers with full precision */
+static void put_value(struct prom_buf *b, double v)
+{
+	if (v >= 0 && v < 9007199254740992.0 && v == (double)(unsigned long long)v)
+		prom_printf(b, " %llu\n", (unsigned long long)v);
+	else
+		prom_printf(b, " %.17g\n", v);
+}
+
+void prom_sample(struct prom_buf *b, const char *name, double value, const char *const *labels)
+{
+	prom_printf(b, "%s", name);
+	put_labels(b, labels, NULL, NULL);
+	put_value(b, value);
+}
+
+/* sample_kv - one sample with one more label than the thread's */
+static void sample_kv(struct prom_buf *b, const char *name, double value,
+		      const char *const *labels, const char *k, const char *v)
+{
+	prom_printf(b, "%s", name);
+	put_labels(b, labels, k, v);
+	put_value(b, value);
+}
+
+/*
+ * put_histogram - a cumulative histogram from the thread's lifetime one
+ * (metric 'metric'). A kernel bucket counts below a bound only when all of
+ * it is below, so a bucket may lag by up to 1/8 of its bound (the kernel's
+ * resolution). The counts are the model's u64 sums, not the kernel's
+ * __u32 buckets: those wrap, and a Prometheus histogram never decreases.
+ */
+static void put_histogram(struct prom_buf *b, const char *name, const struct thread_model *tm,
+			  int metric, const char *const *labels)
+{
+	const struct rtsup_metric_stats *st = &tm->cur.m[metric];
+	__u64 own[HIST_BUCKETS], cum = 0;
+	const __u64 *h = own;
+	char bucket[96], le[32];
+	size_t k = 0;
+	__u32 i;
+
+	if (tm->life_hist)
+		h = tm->life_hist->h[metric];
+	else
+		hist_delta(st->hist, NULL, own);
+
+	snprintf(bucket, sizeof(bucket), "%s_bucket", name);
+	for (i = 0; i < HIST_BUCKETS && k < NLE; i++) {
+		while (k < NLE && hist_bucket_high(i) > le_ns[k]) {
+			snprintf(le, sizeof(le), "%g", le_ns[k] / 1e9);
+			sample_kv(b, bucket, cum < st->count ? cum : st->count, labels, "le", le);
+			k++;
+		}
+		cum += h[i];
+	}
+	for (; k < NLE; k++) {
+		snprintf(le, sizeof(le), "%g", le_ns[k] / 1e9);
+		sample_kv(b, bucket, cum < st->count ? cum : st->count, labels, "le", le);
+	}
+	sample_kv(b, bucket, st->count, labels, "le", "+Inf");
+	prom_printf(b, "%s_sum", name);
+	put_labels(b, labels, NULL, NULL);
+	prom_printf(b, " %.9f\n", st->sum / 1e9);
+	prom_printf(b, "%s_count", name);
+	put_labels(b, labels, NULL, NULL);
+	put_value(b, st->count);
+}
+
+/*
+ * exported - alive threads, and dead judged threads (RT or named by a rule:
+ * STALE) until a restarted instance replaces them. Other threads leave with
+ * their death, so a churning thread pool does not pile up series.
+ */
+static bool exported(const struct thread_model *tm)
+{
+	return tm->alive || (!tm->replaced && (tm->was_rt || tm->rule >= 0));
+}
+
+/* One thread's labels, kept in one place for every family. */
+struct tlabels {
+	char tid[16], tgid[16], comp[48];
+	const char *l[12];	/* comm, tid, tgid, process */
+	const char *sl[12];	/* component first, then the same */
+};
+
+static void thread_labels(const struct thread_model *tm, struct tlabels *t)
+{
+	snprintf(t->tid, sizeof(t->tid), "%u", tm->tid);
+	snprintf(t->tgid, sizeof(t->tgid), "%u", tm->tgid);
+	snprintf(t->comp, sizeof(t->comp), "%s[%u]", tm->comm, tm->tid);
+	t->l[0] = "comm"; t->l[1] = tm->comm;
+	t->l[2] = "tid"; t->l[3] = t->tid;
+	t->l[4] = "tgid"; t->l[5] = t->tgid;
+	t->l[6] = "process"; t->l[7] = tm->pcomm[0] ? tm->pcomm : tm->comm;
+	t->l[8] = NULL;
+	t->sl[0] = "component"; t->sl[1] = t->comp;
+	memcpy(&t->sl[2], t->l, 9 * sizeof(t->l[0]));
+}
+
+/* Per-thread counter families: name, help, and where the value is. */
+enum tcounter {
+	TC_CYCLES, TC_MISSES, TC_OVERRUNS, TC_SYSCALLS, TC_MIGRATIONS, TC_SIGNALS, TC_NR
+};
+
+static const struct {
+	const char *name;
+	const char *help;
+} tcounters[TC_NR] = {
+	[TC_CYCLES] = { "rtsup_thread_cycles_total", "Finished cycles of the thread." },
+	[TC_MISSES] = { "rtsup_thread_deadline_misses_total",
+			"Cycles whose requested absolute release was already past." },
+	[TC_OVERRUNS] = { "rtsup_thread_overruns_total",
+			  "Cycles whose execution time exceeded the nominal period." },
+	[TC_SYSCALLS] = { "rtsup_thread_syscalls_total",
+			  "Syscalls inside cycles, the cycle delimiter excluded." },
+	[TC_MIGRATIONS] = { "rtsup_thread_migrations_total", "CPU changes of the thread." },
+	[TC_SIGNALS] = { "rtsup_thread_signals_total", "Signals delivered to the thread." },
+};
+
+static __u64 tcounter_value(const struct span_view *s, enum tcounter c)
+{
+	switch (c) {
+	case TC_CYCLES: return s->cycles;
+	case TC_MISSES: return s->misses;
+	case TC_OVERRUNS: return s->overruns;
+	case TC_SYSCALLS: return s->syscalls;
+	case TC_MIGRATIONS: return s->migrations;
+	case TC_SIGNALS: return s->signals;
+	default: return 0;
+	}
+}
+
+/* render_threads - every per-thread family, one family at a time */
+static void render_threads(const struct prom_in *in, struct prom_buf *b)
+{
+	static const char *const mnames[RTSUP_M_NR] = {
+		[RTSUP_M_PERIOD] = "period", [RTSUP_M_EXEC] = "exec",
+		[RTSUP_M_CPU] = "cpu", [RTSUP_M_LATENCY] = "latency",
+	};
+	const struct model *m = in->m;
+	struct tlabels tl;
+	int i, k, c;
+
+	prom_family(b, "rtsup_component_status", "gauge",
+		    "Verdict of the last interval: 0 OK, 1 WARN, 2 ERROR, 3 STALE.");
+	prom_sample(b, "rtsup_component_status", prom_level_value(in->s->self.level),
+		    (const char *const[]){ "component", "rtsup-trace", NULL });
+	for (i = 0; i < m->n; i++) {
+		if (!exported(&m->t[i]))
+			continue;
+		thread_labels(&m->t[i], &tl);
+		prom_sample(b, "rtsup_component_status", prom_level_value(m->t[i].st.level),
+			    tl.sl);
+	}
+	prom_family(b, "rtsup_component_worst_status", "gauge",
+		    "Worst verdict since the start: 0 OK, 1 WARN, 2 ERROR, 3 STALE.");
+	prom_sample(b, "rtsup_component_worst_status", prom_level_value(in->s->self_worst),
+		    (const char *const[]){ "component", "rtsup-trace", NULL });
+	for (i = 0; i < m->n; i++) {
+		if (!exported(&m->t[i]))
+			continue;
+		thread_labels(&m->t[i], &tl);
+		prom_sample(b, "rtsup_component_worst_status", prom_level_value(m->t[i].worst),
+			    tl.sl);
+	}
+
+	prom_family(b, "rtsup_thread_info", "gauge",
+		    "Always 1: scheduling policy, RT priority, allowed CPUs and rule of a thread.");
+	for (i = 0; i < m->n; i++) {
+		const struct thread_model *tm = &m->t[i];
+		const char *rule = "", *l[17];
+		char prio[16];
+
+		if (!exported(tm))
+			continue;
+		thread_labels(tm, &tl);
+		snprintf(prio, sizeof(prio), "%d", tm->prio);
+		if (tm->rule >= 0 && tm->rule_gen == in->s->gen && tm->rule < in->s->cfg.nrules)
+			rule = in->s->cfg.rules[tm->rule].name;
+		memcpy(l, tl.l, 8 * sizeof(l[0]));
+		l[8] = "policy"; l[9] = policy_name(tm->policy);
+		l[10] = "priority"; l[11] = prio;
+		l[12] = "cpus"; l[13] = tm->cpus[0] ? tm->cpus : "-";
+		l[14] = "rule"; l[15] = rule;
+		l[16] = NULL;
+		prom_sample(b, "rtsup_thread_info", 1, l);
+	}
+
+	for (c = 0; c < TC_NR; c++) {
+		prom_family(b, tcounters[c].name, "counter", tcounters[c].help);
+		for (i = 0; i < m->n; i++) {
+			if (!exported(&m->t[i]))
+				continue;
+			thread_labels(&m->t[i], &tl);
+			prom_sample(b, tcounters[c].name, tcounter_value(&m->t[i].life, c), tl.l);
+		}
+	}
+
+	prom_family(b, "rtsup_thread_unsafe_events_total", "counter",
+		    "RT-unsafe events inside cycles, by reason.");
+	for (i = 0; i < m->n; i++) {
+		if (!exported(&m->t[i]))
+			continue;
+		thread_labels(&m->t[i], &tl);
+		for (k = 0; k < RTSUP_U_NR; k++)
+			sample_kv(b, "rtsup_thread_unsafe_events_total", m->t[i].life.unsafe[k], tl.l,
+				  "reason", unsafe_reason_name(k));
+	}
+	prom_family(b, "rtsup_thread_unsafe_syscalls_total", "counter",
+		    "RT-unsafe syscalls inside cycles, by name.");
+	for (i = 0; i < m->n; i++) {
+		const struct thread_model *tm = &m->t[i];
+
+		if (!exported(tm))
+			continue;
+		thread_labels(tm, &tl);
+		for (k = 0; k < tm->nsys; k++) {
+			const char *name = syscall_name(tm->sys[k].nr);
+			char buf[16];
+
+			if (!name) {
+				snprintf(buf, sizeof(buf), "sys_%d", tm->sys[k].nr);
+				name = buf;
+			}
+			sample_kv(b, "rtsup_thread_unsafe_syscalls_total", tm->sys[k].total, tl.l,
+				  "syscall", name);
+		}
+	}
+	prom_family(b, "rtsup_thread_context_switches_total", "counter",
+		    "Context switches of the thread: voluntary (blocks, sleeps) and involuntary (preemptions).");
+	for (i = 0; i < m->n; i++) {
+		if (!exported(&m->t[i]))
+			continue;
+		thread_labels(&m->t[i], &tl);
+		sample_kv(b, "rtsup_thread_context_switches_total", m->t[i].life.vol_cs, tl.l, "kind",
+			  "voluntary");
+		sample_kv(b, "rtsup_thread_context_switches_total", m->t[i].life.invol_cs, tl.l, "kind",
+			  "involuntary");
+	}
+	prom_family(b, "rtsup_thread_page_faults_total", "counter",
+		    "Page faults inside cycles, minor and major.");
+	for (i = 0; i < m->n; i++) {
+		if (!exported(&m->t[i]))
+			continue;
+		thread_labels(&m->t[i], &tl);
+		sample_kv(b, "rtsup_thread_page_faults_total", m->t[i].life.minflt, tl.l, "kind", "minor");
+		sample_kv(b, "rtsup_thread_page_faults_total", m->t[i].life.majflt, tl.l, "kind", "major");
+	}
+
+	prom_family(b, "rtsup_thread_latency_seconds", "histogram",
+		    "Wakeup latency per cycle: switch-in minus the expected release.");
+	for (i = 0; i < m->n; i++) {
+		if (!exported(&m->t[i]))
+			continue;
+		thread_labels(&m->t[i], &tl);
+		put_histogram(b, "rtsup_thread_latency_seconds", &m->t[i], RTSUP_M_LATENCY, tl.l);
+	}
+	prom_family(b, "rtsup_thread_exec_seconds", "histogram",
+		    "Execution time per cycle (wall clock): release to the next delimiter call.");
+	for (i = 0; i < m->n; i++) {
+		if (!exported(&m->t[i]))
+			continue;
+		thread_labels(&m->t[i], &tl);
+		put_histogram(b, "rtsup_thread_exec_seconds", &m->t[i], RTSUP_M_EXEC, tl.l);
+	}
+
+	prom_family(b, "rtsup_thread_ewma_seconds", "gauge",
+		    "Exponentially weighted mean per cycle metric (period, exec, cpu, latency).");
+	for (i = 0; i < m->n; i++) {
+		if (!exported(&m->t[i]))
+			continue;
+		thread_labels(&m->t[i], &tl);
+		for (k = 0; k < RTSUP_M_NR; k++)
+			if (m->t[i].life.m[k].count)
+				sample_kv(b, "rtsup_thread_ewma_seconds", m->t[i].life.m[k].ewma / 1e9,
+					  tl.l, "metric", mnames[k]);
+	}
+	prom_family(b, "rtsup_thread_interval_max_seconds", "gauge",
+		    "Largest value per cycle metric in the last interval (absent: no cycle).");
+	for (i = 0; i < m->n; i++) {
+		const struct thread_model *tm = &m->t[i];
+
+		if (!exported(tm))
+			continue;
+		thread_labels(tm, &tl);
+		for (k = 0; k < RTSUP_M_NR; k++)
+			if (tm->win.m[k].count)
+				sample_kv(b, "rtsup_thread_interval_max_seconds",
+					  tm->win.m[k].max / 1e9, tl.l, "metric", mnames[k]);
+	}
+}
+
+/* render_self - the supervisor's own numbers */
+static void render_self(const struct prom_in *in, struct prom_buf *b)
+{
+	const struct model *m = in->m;
+	int i, alive = 0;
+
+	for (i = 0; i < m->n; i++)
+		alive += m->t[i].alive;
+	prom_family(b, "rtsup_build_info", "gauge", "Always 1: the rtsup-trace version.");
+	prom_sample(b, "rtsup_build_info", 1, (const char *const[]){ "version", "0.1", NULL });
+	prom_family(b, "rtsup_uptime_seconds", "gauge", "Seconds since the BPF programs were attached.");
+	prom_sample(b, "rtsup_uptime_seconds", in->elapsed, NULL);
+	prom_family(b, "rtsup_threads", "gauge",
+		    "Threads in the model: alive, and exited ones kept for the summary.");
+	prom_sample(b, "rtsup_threads", alive, (const char *const[]){ "state", "alive", NULL });
+	prom_sample(b, "rtsup_threads", m->n - alive,
+		    (const char *const[]){ "state", "exited", NULL });
+	prom_family(b, "rtsup_thread_map_entries", "gauge", "Entries in the kernel's thread map.");
+	prom_sample(b, "rtsup_thread_map_entries", in->map_entries, NULL);
+	prom_family(b, "rtsup_thread_map_capacity", "gauge",
+		    "Capacity of the kernel's thread map (--max-threads).");
+	prom_sample(b, "rtsup_thread_map_capacity", in->map_capacity, NULL);
+	prom_family(b, "rtsup_untracked_threads_total", "counter",
+		    "Target threads that did not fit into the thread map.");
+	prom_sample(b, "rtsup_untracked_threads_total", in->counters[RTSUP_C_MAP_FULL], NULL);
+	prom_family(b, "rtsup_untracked_syscall_counts_total", "counter",
+		    "Per-syscall unsafe counts that did not fit into their map.");
+	prom_sample(b, "rtsup_untracked_syscall_counts_total", in->counters[RTSUP_C_SYS_FULL],
+		    NULL);
+	prom_family(b, "rtsup_lost_events_total", "counter",
+		    "Rare events the ring buffer had no room for (statistics are not affected).");
+	prom_sample(b, "rtsup_lost_events_total", in->counters[RTSUP_C_RB_DROPS], NULL);
+	prom_family(b, "rtsup_lost_cycle_records_total", "counter",
+		    "Cycle records the recording buffer had no room for (--record, --perfetto).");
+	prom_sample(b, "rtsup_lost_cycle_records_total", in->counters[RTSUP_C_CYC_DROPS], NULL);
+	prom_family(b, "rtsup_forgotten_threads_total", "counter",
+		    "Exited threads dropped from the model to keep memory bounded.");
+	prom_sample(b, "rtsup_forgotten_threads_total", in->forgotten, NULL);
+	prom_family(b, "rtsup_violations_total", "counter",
+		    "WARN and ERROR verdicts (a verdict repeated unchanged counts once).");
+	prom_sample(b, "rtsup_violations_total", in->s->nv + in->s->v_dropped, NULL);
+}
+
+int prom_render(const struct prom_in *in, struct prom_buf *b)
+{
+	b->len = 0;
+	b->oom = false;
+	if (b->p)
+		b->p[0] = '\0';
+	render_self(in, b);
+	render_threads(in, b);
+	if (in->extra)
+		in->extra(b, in->extra_ctx);
+	if (!grow(b, 0))
+		return -1;
+	b->p[b->len] = '\0';
+	return 0;
+}
+
+void prom_buf_free(struct prom_buf *b)
+{
+	free(b->p);
+	memset(b, 0, sizeof(*b));
+}
