@@ -27,6 +27,15 @@ CYC_SETTLE_RUNS = 3
 pytestmark = pytest.mark.skipif(EMULATED, reason="host only: the programs' timing")
 
 
+def settle_bound(preempted):
+    """The first release k >= CYC_SETTLE_RUNS whose request and the three
+    before it were made unpreempted (preempted[j]: release j's request)."""
+    for k in range(CYC_SETTLE_RUNS, len(preempted)):
+        if not any(preempted[k - CYC_SETTLE_RUNS:k + 1]):
+            return k
+    pytest.fail(f"no unpreempted run of releases in the first {len(preempted)} cycles")
+
+
 def run_traced(cmd, name, out, timeout=60, args=()):
     """Trace the thread named 'name' while cmd runs; return (truth, thread)."""
     tr = Trace(["--comm", name] + list(args))
@@ -54,17 +63,28 @@ def test_python_loop_with_sigalrm(bpf, tmp_path):
     assert truth["alarms"] >= cycles * 2 / 5 / 2
     assert tot["signals"] >= truth["alarms"]
     assert t["mode"] == "delimiter"
-    # the loop's first sleep is the first delimiter: every cycle is counted
-    assert tot["cycles"] == pytest.approx(truth["cycles"], abs=1)
+    # the loop's first sleep is the first delimiter: every cycle is counted,
+    # unless start-up is dropped when the period settles (include/cycle.h).
+    # It settles at the entry of release k once releases k-3..k had equal
+    # distances; time.sleep requests its own clock read + the time left, so
+    # a preemption before a sleep shifts that release: k is at most the
+    # first k >= 3 whose four requests the program saw unpreempted. With
+    # k == 3 nothing was start-up; otherwise the cycles ended at releases
+    # 1..k-1 may be dropped.
+    k = settle_bound(truth["preempted"])
+    dropped = 0 if k == CYC_SETTLE_RUNS else k - 1
+    assert truth["cycles"] - dropped - 1 <= tot["cycles"] <= truth["cycles"] + 1, (k, truth)
     # both average the same run of periods; they differ only by when each
     # saw the first and last release (< one period over 1000): < 0.1 %
     assert tot["period_ns"]["mean"] == pytest.approx(truth["mean_period_ns"], rel=0.005)
     # a resumed sleep is released at its deadline: never early
     assert tot["latency_ns"]["min"] > 0
     # a miss is a deadline already past at the delimiter entry: the program
-    # saw it a few us before the kernel side, which may see a few more
+    # saw it a few us before the kernel side, which may see a few more; the
+    # misses of dropped start-up cycles are dropped with them
     late = len(truth["late"])
-    assert late <= tot["deadline_misses"] <= late + 2
+    kept = len([i for i in truth["late"] if i > dropped + 1])
+    assert kept <= tot["deadline_misses"] <= late + 2
 
 
 def test_c_loop_with_usleep_inside(bpf, tmp_path):
