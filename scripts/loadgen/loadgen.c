@@ -626,6 +626,13 @@ static void *worker_main(void *arg)
 			ts = ns_to_ts(next);
 			clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL);
 		}
+		/*
+		 * The start read comes first: a preemption after it is inside
+		 * our span, one before it is in the switch count read next (read
+		 * first, a preemption between the two reads would be in the
+		 * tracer's cycle only, and in neither count).
+		 */
+		start = now_ns();
 		if (cfg.audit) {
 			/* preempted between the last end read and this cycle's start? */
 			rusage_switches(&vol, &inv);
@@ -634,7 +641,6 @@ static void *worker_main(void *arg)
 				w->misses_near++;
 			audit_overrun(w, &prev, edge);
 		}
-		start = now_ns();
 		work = w->maxlog ? inject(w, c, &quit) : cfg.work_us * 1000;
 		while (now_ns() - start < work)
 			;
