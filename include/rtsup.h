@@ -165,7 +165,7 @@ struct rtsup_cycle_state {
 	__u64 last_expected;	/* expected release of the running cycle */
 	__u64 nominal;		/* last nominal period (expected deltas) */
 	__u64 wake_ts;		/* last wakeup while sleeping */
-	__u64 in_ts;		/* last switch-in while in the delimiter */
+	__u64 in_ts;		/* in the delimiter: cycle_delim_switched_in() */
 	__u64 minflt0;		/* fault counters at cycle start */
 	__u64 majflt0;
 	__u32 mode;		/* enum rtsup_mode */
