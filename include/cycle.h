@@ -404,8 +404,8 @@ RTSUP_INLINE __u64 cycle_delim_switched_in(const struct rtsup_cycle_state *cs)
 /* The paths of cycle_delim_exit. */
 enum cycle_exit_path {
 	CYC_EXIT_NONE,		/* no delimiter entered: nothing released */
-	CYC_EXIT_SWITCHED_IN,	/* released at its switch-in (it slept) */
-	CYC_EXIT_NO_SLEEP,	/* never switched in since entry: released now */
+	CYC_EXIT_SWITCHED_IN,	/* released at cycle_delim_switched_in() */
+	CYC_EXIT_NO_SLEEP,	/* not switched in since entry: released now */
 };
 #define CYC_EXIT_TIMED	(1u << CYC_EXIT_NO_SLEEP)
 
