@@ -70,14 +70,9 @@ const volatile char cfg_comms[RTSUP_MAX_COMMS][RTSUP_COMM_LEN];
 __u32 epoch;			/* flipped every interval */
 __u32 thread_cfg_used;		/* a rule's settings may be in thread_cfg */
 __s64 clock_off[16];		/* clock id -> its offset to CLOCK_MONOTONIC */
-/* Thread ids that may be targets: the hooks' first test, one load (rtsup.h) */
-__u64 tidmask[RTSUP_TIDMASK_WORDS];
-/*
- * Targets whose next wakeup time will be read (cycle_wakeup_read()): a
- * periodic thread sleeping until a requested release has its bit clear,
- * and its sched_wakeup costs this one load, no map lookup.
- */
-__u64 wakemask[RTSUP_TIDMASK_WORDS];
+/* The tid bitmaps and their rules: include/rtsup.h */
+__u64 tidmask[RTSUP_TIDMASK_WORDS];	/* may have an entry in threads */
+__u64 wakemask[RTSUP_TIDMASK_WORDS];	/* its next wakeup time may be read */
 
 struct {
 	__uint(type, BPF_MAP_TYPE_HASH);
@@ -213,17 +208,16 @@ static __always_inline int maybe_target(__u32 tid)
 	return tid_bit(tidmask, tid);
 }
 
-/* note_wake - keep the thread's wakemask bit equal to cycle_wakeup_read() */
+/* maybe_wake_read - may this target's wakeup be read? No: no lookup for it */
+static __always_inline int maybe_wake_read(__u32 tid)
+{
+	return tid_bit(wakemask, tid);
+}
+
+/* note_wake - after an event: the wakemask bit follows cycle_wakeup_read() */
 static __always_inline void note_wake(const struct rtsup_thread *t)
 {
-	int want = !t->exited && cycle_wakeup_read(t);
-
-	if (tid_bit(wakemask, t->tid) == want)
-		return;
-	if (want)
-		tid_bit_set(wakemask, t->tid);
-	else
-		tid_bit_clear(wakemask, t->tid);
+	wake_bit_sync(wakemask, t->tid, !t->exited && cycle_wakeup_read(t));
 }
 
 /* lookup_thread - the thread's entry, NULL for every thread that is no target */
@@ -340,9 +334,7 @@ static __always_inline struct rtsup_thread *add_thread(struct task_struct *task,
 	tmpl = bpf_map_lookup_elem(&zero_thread, &zero);
 	if (!tmpl)
 		return NULL;
-	tid_bit_set(tidmask, tid);
-	/* a new thread's wakeups are read until it shows a delimiter */
-	tid_bit_set(wakemask, tid);
+	tid_mark_new(tidmask, wakemask, tid);
 	err = bpf_map_update_elem(&threads, &tid, tmpl, BPF_NOEXIST);
 	/*
 	 * The entry may be there whatever the error: -EEXIST, or -EBUSY on
@@ -703,7 +695,7 @@ static __always_inline int on_wakeup(struct task_struct *p, const int btf)
 	struct rtsup_thread *t;
 
 	/* no target, or one whose wakeup time nobody reads: one load */
-	if (!tid_bit(wakemask, tid))
+	if (!maybe_wake_read(tid))
 		return 0;
 	t = bpf_map_lookup_elem(&threads, &tid);
 	if (t && cycle_wakeup_read(t))

@@ -96,10 +96,8 @@ static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, bool 
 	strncpy(t->comm, comm, RTSUP_COMM_LEN - 1);
 	if (process)
 		bpf_map_update_elem(bpf_map__fd(c->skel->maps.tgids), &k, &one, BPF_ANY);
-	/* the hooks look a thread up only when its bit is set (rtsup.h) */
-	tid_bit_set(c->skel->bss->tidmask, key);
-	/* and read its wakeups until it shows a delimiter (rtsup.bpf.c) */
-	tid_bit_set(c->skel->bss->wakemask, key);
+	/* the hooks look a thread up only when its bits are set (rtsup.h) */
+	tid_mark_new(c->skel->bss->tidmask, c->skel->bss->wakemask, key);
 	/* the kernel may have added it since attach: keep its entry */
 	if (bpf_map_update_elem(bpf_map__fd(c->skel->maps.threads), &key, t, BPF_NOEXIST) &&
 	    errno != EEXIST) {
