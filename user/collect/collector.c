@@ -154,6 +154,15 @@ int collector_poll(struct collector *c, int ms)
 	return err == -EINTR ? 0 : err;
 }
 
+/*
+ * counter_base - what userspace adds to a kernel counter: the threads the
+ * start-up scan could not add are untracked too, never counted by the kernel
+ */
+static __u64 counter_base(const struct collector *c, __u32 k)
+{
+	return k == RTSUP_C_MAP_FULL ? c->untracked_scan : 0;
+}
+
 /* read_counters - sum the per-CPU counters of the kernel side */
 static void read_counters(struct collector *c)
 {
@@ -163,8 +172,7 @@ static void read_counters(struct collector *c)
 	int i;
 
 	for (k = 0; k < RTSUP_C_NR; k++) {
-		/* the start-up scan's misses are threads the kernel side never counted */
-		__u64 sum = k == RTSUP_C_MAP_FULL ? c->untracked_scan : 0;
+		__u64 sum = counter_base(c, k);
 
 		if (ncpu <= 0 || bpf_map_lookup_elem(fd, &k, vals))
 			continue;	/* keep the last sum: counters never go back */
