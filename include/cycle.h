@@ -152,7 +152,7 @@ RTSUP_INLINE void cycle_epoch(struct rtsup_thread *t, __u32 epoch)
 		return;
 	t->epoch = epoch;
 	for (i = 0; i < RTSUP_M_NR; i++)
-		minmax_reset(&t->m[i].win[epoch & 1]);
+		minmax_reset(&t->m[i].win[RTSUP_BANK(epoch)]);
 }
 
 /* cycle_pend_clear - forget the running cycle's unsafe syscalls by number */

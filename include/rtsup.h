@@ -147,13 +147,24 @@ struct rtsup_minmax {
 };
 
 /* Lifetime statistics of one metric; min/max also per interval bank. */
+/*
+ * Interval windows. Counts, sums and histograms in the maps only grow: an
+ * interval's are the difference of two snapshots (model.c). Min and max
+ * cannot be subtracted: they go into one of two banks, win[RTSUP_BANK(epoch)].
+ * Userspace increments epoch when an interval ends, then reads the bank of
+ * the epoch that ended, which the hooks no longer write; a hook resets a
+ * bank the first time it writes it in a new epoch (cycle_epoch, can.h).
+ * Nothing is reset from userspace, so nothing is lost between read and reset.
+ */
+#define RTSUP_BANK(epoch)	((epoch) & 1)
+
 struct rtsup_metric_stats {
 	__u64 count;
 	__u64 sum;
 	__u64 min;
 	__u64 max;
 	__s64 ewma;		/* fixed point, RTSUP_EWMA_SHIFT fraction bits */
-	struct rtsup_minmax win[2];	/* per-interval min/max, by epoch bit */
+	struct rtsup_minmax win[2];	/* per-interval min/max, by RTSUP_BANK(epoch) */
 	__u32 hist[HIST_BUCKETS];
 };
 

@@ -196,12 +196,6 @@ static double overhead_interval(struct overhead *ov, struct loader *l, const str
 	return ov->pct;
 }
 
-/* lost_records - what the ring buffers dropped so far: rare events and cycle records */
-static __u64 lost_records(const struct collector *c)
-{
-	return c->counters[RTSUP_C_RB_DROPS] + c->counters[RTSUP_C_CYC_DROPS];
-}
-
 /* self_in - what the supervisor knows about itself this interval */
 static void self_in(struct self_in *in, const struct collector *c, const struct supervisor *s,
 		    double overhead_pct, __u64 *last_drops)
@@ -209,8 +203,8 @@ static void self_in(struct self_in *in, const struct collector *c, const struct 
 	in->th = &s->cfg.defaults.th;
 	in->overhead_pct = overhead_pct;
 	/* the interval's: the counters never go back (read_counters) */
-	in->lost_events = lost_records(c) - *last_drops;
-	*last_drops = lost_records(c);
+	in->lost_events = lost_records(c->counters) - *last_drops;
+	*last_drops = lost_records(c->counters);
 	in->untracked_threads = c->counters[RTSUP_C_MAP_FULL];
 }
 

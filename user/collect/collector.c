@@ -397,29 +397,56 @@ static int read_threads(struct collector *c)
 	return 0;
 }
 
+/*
+ * An interval, as collector_sample reads it: epoch_flip ends it in the
+ * kernel (rtsup.h, "Interval windows"); every thread is marked unseen with
+ * an empty interval (mark_unseen), the thread map read marks those it
+ * finds (take: the snapshot difference, and alive from the entry), and
+ * those it did not find are dead only after a complete read (mark_absent).
+ */
+
+/* epoch_flip - the interval ends: its min/max bank is no longer written */
+static void epoch_flip(struct collector *c)
+{
+	c->bank = RTSUP_BANK(c->skel->bss->epoch);
+	c->skel->bss->epoch++;
+}
+
+/* mark_unseen - before the read: a thread not in the map any more had an empty interval */
+static void mark_unseen(struct model *m)
+{
+	int i;
+
+	for (i = 0; i < m->n; i++) {
+		m->t[i].seen = false;
+		model_idle(&m->t[i]);
+	}
+}
+
+/* mark_absent - after the read: an entry not read is dead only if the whole map was */
+static void mark_absent(struct model *m, bool read_complete)
+{
+	int i;
+
+	for (i = 0; i < m->n; i++)
+		if (!m->t[i].seen && thread_dead(read_complete, false, false))
+			m->t[i].alive = false;
+}
+
 int collector_sample(struct collector *c)
 {
-	int i, err;
+	int err;
 
-	/* new interval: the kernel writes the other min/max bank from now on */
-	c->bank = c->skel->bss->epoch & 1;
-	c->skel->bss->epoch++;
+	epoch_flip(c);
 	update_clocks(c);
 	collector_poll(c, 0);
 	/* what came in the interval (the poll above was its last), in time order */
 	eventlog_finish(&c->events);
-	/* a thread not in the map any more (reaped) had an empty interval */
-	for (i = 0; i < c->model.n; i++) {
-		c->model.t[i].seen = false;
-		model_idle(&c->model.t[i]);
-	}
+	mark_unseen(&c->model);
 	err = read_threads(c);
 	if (err)
 		fprintf(stderr, "rtsup-trace: reading the thread map: %s\n", strerror(-err));
-	/* an entry not read is a dead thread only if the whole map was read */
-	for (i = 0; i < c->model.n; i++)
-		if (!c->model.t[i].seen && thread_dead(!err, false, false))
-			c->model.t[i].alive = false;
+	mark_absent(&c->model, !err);
 	read_unsafe_sys(c);
 	read_counters(c);
 	return err;
