@@ -633,12 +633,12 @@ RTSUP_INLINE void cycle_add_cpu(struct rtsup_cycle_state *cs, __u64 now)
 }
 
 /*
- * cycle_switch_out - the thread leaves its CPU; 'voluntary' is a block
- * (it is no longer runnable), otherwise a preemption.
+ * cycle_switch_out_on - cycle_switch_out on the path its caller decided
+ * already: path is cycle_switch_out_path(&t->cs, voluntary)
  */
-RTSUP_INLINE __u32 cycle_switch_out(struct rtsup_thread *t, const struct cycle_cfg *cfg,
-				    __u64 now, int voluntary, __u64 minflt,
-				    __u64 majflt, struct rtsup_cycle *out)
+RTSUP_INLINE __u32 cycle_switch_out_on(struct rtsup_thread *t, const struct cycle_cfg *cfg,
+				       enum cycle_out_path path, __u64 now, int voluntary,
+				       __u64 minflt, __u64 majflt, struct rtsup_cycle *out)
 {
 	struct rtsup_cycle_state *cs = &t->cs;
 	__u32 ev = 0;
@@ -647,7 +647,7 @@ RTSUP_INLINE __u32 cycle_switch_out(struct rtsup_thread *t, const struct cycle_c
 		t->vol_cs++;
 	else
 		t->invol_cs++;
-	switch (cycle_switch_out_path(cs, voluntary)) {
+	switch (path) {
 	case CYC_OUT_DELIM_SLEEP:
 		/* it sleeps: the release comes later, and this is its wait */
 		if (!cs->delim_key)
@@ -679,6 +679,18 @@ RTSUP_INLINE __u32 cycle_switch_out(struct rtsup_thread *t, const struct cycle_c
 	}
 	cs->run_since = 0;
 	return ev;
+}
+
+/*
+ * cycle_switch_out - the thread leaves its CPU; 'voluntary' is a block
+ * (it is no longer runnable), otherwise a preemption.
+ */
+RTSUP_INLINE __u32 cycle_switch_out(struct rtsup_thread *t, const struct cycle_cfg *cfg,
+				    __u64 now, int voluntary, __u64 minflt,
+				    __u64 majflt, struct rtsup_cycle *out)
+{
+	return cycle_switch_out_on(t, cfg, cycle_switch_out_path(&t->cs, voluntary), now,
+				   voluntary, minflt, majflt, out);
 }
 
 /* cycle_syscall - a syscall other than the delimiter; 'unsafe' per class */
