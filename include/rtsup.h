@@ -36,7 +36,9 @@
  *   always safe (one lookup more); a clear bit only while
  *   cycle_wakeup_read() is false for the thread's entry. So it is set with
  *   tidmask for a new thread, and kept equal to cycle_wakeup_read() after
- *   every event that changes what that reads (wake_bit_sync).
+ *   every event that changes what that reads (wake_bit_sync). It is set
+ *   only with or after the tidmask bit, which stays: a set wakemask bit
+ *   implies a set tidmask bit, and a clear tidmask bit answers both.
  */
 #define RTSUP_TIDMASK_WORDS	((1U << 22) / 64)
 #define RTSUP_TIDMASK_WORD(tid)	(((tid) >> 6) & (RTSUP_TIDMASK_WORDS - 1))
