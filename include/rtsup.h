@@ -33,12 +33,12 @@
  *   sched_wakeup looks the thread up only when it is set; sched_switch
  *   looks it up at its switch-in when set and holds the switch-in in a
  *   per-CPU record when clear (cycle_switch_in_later). A set bit is
- *   always safe (one lookup more); a clear bit only while
- *   cycle_wakeup_read() is false for the thread's entry. So it is set with
- *   tidmask for a new thread, and kept equal to cycle_wakeup_read() after
- *   every event that changes what that reads (wake_bit_sync). It is set
- *   only with or after the tidmask bit, which stays: a set wakemask bit
- *   implies a set tidmask bit, and a clear tidmask bit answers both.
+ *   always safe (one lookup more); a clear bit only while the entry's
+ *   wakeups are not read (cycle_wakeup_read() false, or it exited). So it
+ *   is set with tidmask for a new thread, and after every event that
+ *   changes what that reads kept equal to it (note_wake: wake_bit_sync).
+ *   It is set only with or after the tidmask bit, which stays: a set
+ *   wakemask bit implies a set tidmask bit; a clear tidmask bit answers both.
  */
 #define RTSUP_TIDMASK_WORDS	((1U << 22) / 64)
 #define RTSUP_TIDMASK_WORD(tid)	(((tid) >> 6) & (RTSUP_TIDMASK_WORDS - 1))
