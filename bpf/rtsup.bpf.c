@@ -471,9 +471,9 @@ static __always_inline __u64 wait_key(struct pt_regs *regs, __u32 nr, __u32 cls,
 /*
  * held_for - is the record holding tid's switch-in? What it holds is the
  * switch-in of the thread that came on this CPU last, until that thread's
- * next event here settles it: at a sched_switch, its tid is 0 or prev's
- * (unless a sched_switch went unseen, docs/design.md: then a stale one is
- * replaced by the next hold).
+ * next event here settles it: at a sched_switch, its tid is 0 or prev's.
+ * Only a sched_switch that went unseen (docs/design.md) leaves another's:
+ * the next hold replaces it, or that thread's next event here applies it.
  */
 static __always_inline int held_for(const struct cycle_switch_rec *r, __u32 tid)
 {
