@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
 /*
  * print.c - the effective configuration, in the file's YAML form
- * (--check-config, -v): every field through the same tables that parse
+ * (--check-config): every field through the same tables that parse
  * it, each value written so that reading it back gives the same value.
  */
 #include <math.h>
