@@ -106,10 +106,17 @@ static int term_width(void)
 	return 80;
 }
 
+/* hist_draw - the n histograms filled, on stdout; colour only on a terminal, unless told */
+static void hist_draw(const struct options *o, struct hd_hist *hs, int n)
+{
+	if (n)
+		histdraw_print(stdout, hs, n, term_width(),
+			       o->color < 0 ? isatty(STDOUT_FILENO) : o->color);
+}
+
 void hist_table(const struct collector *c, const struct supervisor *sv, bool window)
 {
 	const struct options *o = c->o;
-	bool color = o->color < 0 ? isatty(STDOUT_FILENO) : o->color;
 	struct hd_hist *hs;
 	__u64 (*bufs)[HIST_BUCKETS];
 	int m, i, n;
@@ -131,8 +138,7 @@ void hist_table(const struct collector *c, const struct supervisor *sv, bool win
 			marks(sv, tm, m, v, hs[n].mark);
 			n++;
 		}
-		if (n)
-			histdraw_print(stdout, hs, n, term_width(), color);
+		hist_draw(o, hs, n);
 	}
 	fflush(stdout);
 out:
@@ -179,7 +185,6 @@ json_t *hist_json(const struct thread_model *tm, unsigned int metrics, bool wind
  */
 void hist_can_table(const struct can_model *m, const struct options *o)
 {
-	bool color = o->color < 0 ? isatty(STDOUT_FILENO) : o->color;
 	struct hd_hist *hs;
 	__u64 (*bufs)[HIST_BUCKETS];
 	struct metric_view v;
@@ -202,8 +207,7 @@ void hist_can_table(const struct can_model *m, const struct options *o)
 		view_marks(&v, hs[n].mark);
 		n++;
 	}
-	if (n)
-		histdraw_print(stdout, hs, n, term_width(), color);
+	hist_draw(o, hs, n);
 	fflush(stdout);
 out:
 	free(hs);
