@@ -121,12 +121,15 @@ $(OUT)/progs32/%: tests/integration/progs/%.c
 	$(Q)$(CC) -m32 $(CFLAGS) $(WARN) $< -o $@
 
 # Unit tests: plain C from include/ and user/, no kernel, no root.
+# the configuration module: user/config/ but actionspec.c (docs/design.md)
+CONFIG_SRCS := user/config/config.c user/config/yamlwalk.c user/config/values.c \
+	user/config/canconfig.c user/config/print.c
 UNIT_DEPS_test_model  := user/model/model.c
 UNIT_DEPS_test_eventlog := user/model/eventlog.c
 UNIT_DEPS_test_histdraw := user/sinks/histdraw.c
 UNIT_DEPS_test_progress := user/sinks/progress.c
 UNIT_DEPS_test_syscalls := user/model/syscalls.c
-UNIT_DEPS_test_config := user/config/config.c user/model/syscalls.c user/config/actionspec.c user/judge/status.c
+UNIT_DEPS_test_config := $(CONFIG_SRCS) user/model/syscalls.c user/config/actionspec.c user/judge/status.c
 UNIT_LIBS_test_config := -lyaml
 UNIT_DEPS_test_record := user/sinks/record.c user/sinks/jsonstr.c user/sinks/errline.c
 UNIT_LIBS_test_record := -lz -ljansson
@@ -135,7 +138,7 @@ UNIT_LIBS_test_perfetto := -ljansson
 UNIT_DEPS_test_checks := user/judge/checks.c user/model/model.c user/judge/status.c
 UNIT_DEPS_test_status := user/judge/status.c
 UNIT_DEPS_test_actionspec := user/config/actionspec.c user/judge/status.c
-UNIT_DEPS_test_actions := user/robot/actions.c user/config/actionspec.c user/judge/status.c user/config/config.c user/model/syscalls.c
+UNIT_DEPS_test_actions := user/robot/actions.c user/config/actionspec.c user/judge/status.c $(CONFIG_SRCS) user/model/syscalls.c
 UNIT_LIBS_test_actions := -ljansson -lyaml
 UNIT_DEPS_test_targets := user/collect/targets.c
 UNIT_DEPS_test_pidns := user/collect/pidns.c
@@ -145,7 +148,7 @@ UNIT_DEPS_test_service := user/robot/service.c user/judge/status.c
 UNIT_LIBS_test_service := -lsystemd
 UNIT_DEPS_test_promexp := user/sinks/promexp.c
 UNIT_LIBS_test_promexp := -lpthread
-UNIT_DEPS_test_canmodel := user/model/canmodel.c user/model/model.c user/judge/status.c user/config/config.c user/model/syscalls.c user/config/actionspec.c
+UNIT_DEPS_test_canmodel := user/model/canmodel.c user/model/model.c user/judge/status.c $(CONFIG_SRCS) user/model/syscalls.c user/config/actionspec.c
 UNIT_LIBS_test_canmodel := -lyaml
 .SECONDEXPANSION:
 $(OUT)/tests/%: $$(wildcard tests/unit/*/$$*.c) $$(UNIT_DEPS_$$*) $(OUT)/syscall_table.h | $(OUT)/tests

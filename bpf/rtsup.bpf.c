@@ -70,14 +70,9 @@ const volatile char cfg_comms[RTSUP_MAX_COMMS][RTSUP_COMM_LEN];
 __u32 epoch;			/* flipped every interval */
 __u32 thread_cfg_used;		/* a rule's settings may be in thread_cfg */
 __s64 clock_off[16];		/* clock id -> its offset to CLOCK_MONOTONIC */
-/* Thread ids that may be targets: the hooks' first test, one load (rtsup.h) */
-__u64 tidmask[RTSUP_TIDMASK_WORDS];
-/*
- * Targets whose next wakeup time will be read (cycle_wakeup_read()): a
- * periodic thread sleeping until a requested release has its bit clear,
- * and its sched_wakeup costs this one load, no map lookup.
- */
-__u64 wakemask[RTSUP_TIDMASK_WORDS];
+/* The tid bitmaps and their rules: include/rtsup.h */
+__u64 tidmask[RTSUP_TIDMASK_WORDS];	/* may have an entry in threads */
+__u64 wakemask[RTSUP_TIDMASK_WORDS];	/* its next wakeup time may be read */
 
 struct {
 	__uint(type, BPF_MAP_TYPE_HASH);
@@ -213,17 +208,16 @@ static __always_inline int maybe_target(__u32 tid)
 	return tid_bit(tidmask, tid);
 }
 
-/* note_wake - keep the thread's wakemask bit equal to cycle_wakeup_read() */
+/* maybe_wake_read - may this target's wakeup be read? No: no lookup for it */
+static __always_inline int maybe_wake_read(__u32 tid)
+{
+	return tid_bit(wakemask, tid);
+}
+
+/* note_wake - after an event: the wakemask bit follows cycle_wakeup_read() */
 static __always_inline void note_wake(const struct rtsup_thread *t)
 {
-	int want = !t->exited && cycle_wakeup_read(t);
-
-	if (tid_bit(wakemask, t->tid) == want)
-		return;
-	if (want)
-		tid_bit_set(wakemask, t->tid);
-	else
-		tid_bit_clear(wakemask, t->tid);
+	wake_bit_sync(wakemask, t->tid, !t->exited && cycle_wakeup_read(t));
 }
 
 /* lookup_thread - the thread's entry, NULL for every thread that is no target */
@@ -340,9 +334,7 @@ static __always_inline struct rtsup_thread *add_thread(struct task_struct *task,
 	tmpl = bpf_map_lookup_elem(&zero_thread, &zero);
 	if (!tmpl)
 		return NULL;
-	tid_bit_set(tidmask, tid);
-	/* a new thread's wakeups are read until it shows a delimiter */
-	tid_bit_set(wakemask, tid);
+	tid_mark_new(tidmask, wakemask, tid);
 	err = bpf_map_update_elem(&threads, &tid, tmpl, BPF_NOEXIST);
 	/*
 	 * The entry may be there whatever the error: -EEXIST, or -EBUSY on
@@ -474,6 +466,18 @@ static __always_inline __u64 wait_key(struct pt_regs *regs, __u32 nr, __u32 cls,
 	if (cls & RTSUP_SC_OPKEY)
 		key ^= (SYSARG(btf, regs, 2) & 0x7f) << 56;
 	return key | 1ULL << 63;	/* never 0, fd 0 included */
+}
+
+/*
+ * held_for - is the record holding tid's switch-in? What it holds is the
+ * switch-in of the thread that came on this CPU last, until that thread's
+ * next event here settles it: at a sched_switch, its tid is 0 or prev's.
+ * Only a sched_switch that went unseen (docs/design.md) leaves another's:
+ * the next hold replaces it, or that thread's next event here applies it.
+ */
+static __always_inline int held_for(const struct cycle_switch_rec *r, __u32 tid)
+{
+	return r && r->tid == tid;
 }
 
 /* held_switch_in - this CPU's held switch-in record */
@@ -622,52 +626,105 @@ static __always_inline int on_sys_exit(long ret, const int btf)
 	return 0;
 }
 
+/*
+ * settle_prev - prev leaves the CPU: a switch-in held for it is applied now,
+ * or dropped with it. Returns prev's entry (NULL: no target) and, in *r,
+ * this CPU's record once looked up.
+ */
+static __always_inline struct rtsup_thread *settle_prev(__u32 prev_tid,
+							struct cycle_switch_rec **r)
+{
+	struct rtsup_thread *pt;
+
+	if (!maybe_target(prev_tid))
+		return NULL;
+	pt = bpf_map_lookup_elem(&threads, &prev_tid);
+	*r = held_switch_in();
+	if (held_for(*r, prev_tid)) {
+		if (pt)
+			settle(pt, *r);
+		(*r)->tid = 0;
+	}
+	return pt;
+}
+
+/*
+ * lookup_or_hold - next's entry when its switch-in needs one; NULL with
+ * *hold set when the switch-in is held instead (its wakemask bit is clear:
+ * rtsup.h), NULL alone when next is no target
+ */
+static __always_inline struct rtsup_thread *lookup_or_hold(__u32 next_tid, int *hold)
+{
+	if (!maybe_target(next_tid))
+		return NULL;
+	if (maybe_wake_read(next_tid))
+		return bpf_map_lookup_elem(&threads, &next_tid);
+	*hold = 1;
+	return NULL;
+}
+
+/* rt_adopt - --rt: a SCHED_FIFO, RR or DEADLINE thread is added at its switch-in */
+static __always_inline struct rtsup_thread *rt_adopt(struct task_struct *next, const int btf)
+{
+	int policy = TREAD(btf, next, policy);
+
+	if (policy == SCHED_FIFO || policy == SCHED_RR || policy == SCHED_DEADLINE)
+		return add_thread(next, bpf_ktime_get_ns());
+	return NULL;
+}
+
+/*
+ * switch_has_work - anything to do: a target leaves (pt) or comes in (nt,
+ * or held). Past it, pt != NULL whenever !nt && !hold.
+ */
+static __always_inline int switch_has_work(const struct rtsup_thread *pt,
+					   const struct rtsup_thread *nt, int hold)
+{
+	return pt || nt || hold;
+}
+
+/*
+ * switch_timed - does this switch read the clock? Every switch-in does
+ * (looked up or held); a switch-out only on a path of cycle_switch_out
+ * that uses the time, so a thread going to sleep in its delimiter alone
+ * reads none. out is prev's path, decided once for both.
+ */
+static __always_inline int switch_timed(const struct rtsup_thread *nt, int hold,
+					enum cycle_out_path out)
+{
+	return nt || hold || CYC_PATH_TIMED(CYC_OUT_TIMED, out);
+}
+
 /* on_switch - one thread leaves the CPU, another gets it */
 static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 				     struct task_struct *next, const int btf)
 {
 	__u32 prev_tid = TREAD(btf, prev, pid), next_tid = TREAD(btf, next, pid);
-	struct rtsup_thread *pt = NULL, *nt = NULL;
+	struct rtsup_thread *pt, *nt;
 	struct cycle_switch_rec *r = NULL;
 	struct rtsup_cycle c;
 	struct cycle_cfg cf;
-	int policy, voluntary, hold = 0;
+	enum cycle_out_path out = CYC_OUT_IDLE;
+	int voluntary, hold = 0;
 	__u64 now;
 	__u32 ev;
 
 	if (!maybe_target(prev_tid) && !maybe_target(next_tid) && !cfg_rt)
 		return 0;
 	/* one side is usually no target (idle, a kworker): no lookup for it */
-	if (maybe_target(prev_tid)) {
-		pt = bpf_map_lookup_elem(&threads, &prev_tid);
-		/* what was held for prev is applied now, or dropped with it */
-		r = held_switch_in();
-		if (r && r->tid == prev_tid) {
-			if (pt)
-				settle(pt, r);
-			r->tid = 0;
-		}
-	}
-	/* a thread whose wakeup nobody reads: hold its switch-in, no lookup */
-	if (maybe_target(next_tid)) {
-		if (tid_bit(wakemask, next_tid))
-			nt = bpf_map_lookup_elem(&threads, &next_tid);
-		else
-			hold = 1;
-	}
-	if (!nt && !hold && cfg_rt && next_tid) {
-		policy = TREAD(btf, next, policy);
-		if (policy == SCHED_FIFO || policy == SCHED_RR || policy == SCHED_DEADLINE)
-			nt = add_thread(next, bpf_ktime_get_ns());
-	}
+	pt = settle_prev(prev_tid, &r);
+	nt = lookup_or_hold(next_tid, &hold);
+	if (!nt && !hold && cfg_rt && next_tid)
+		nt = rt_adopt(next, btf);
 	/* keeps clang from OR-ing the two pointers, which the verifier refuses */
 	barrier_var(nt);
-	if (!hold && !pt && !nt)
+	if (!switch_has_work(pt, nt, hold))
 		return 0;
 	voluntary = pt && !preempt && (btf ? get_task_state_btf(prev) :
 					     get_task_state(prev)) != 0;
-	/* a thread going to sleep in its delimiter alone needs no clock read */
-	now = nt || hold || cycle_switch_out_timed(pt, voluntary) ? bpf_ktime_get_ns() : 0;
+	if (pt)
+		out = cycle_switch_out_path(&pt->cs, voluntary);
+	now = switch_timed(nt, hold, out) ? bpf_ktime_get_ns() : 0;
 	if (hold) {
 		if (!r)
 			r = held_switch_in();
@@ -678,8 +735,8 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 	if (pt) {
 		cf = cfg(pt->cs.mode == RTSUP_MODE_DELIM ? NULL :
 			 thread_cfg_of(prev_tid));
-		ev = cycle_switch_out(pt, &cf, now, voluntary, TREAD(btf, prev, min_flt),
-				      TREAD(btf, prev, maj_flt), &c);
+		ev = cycle_switch_out_on(pt, &cf, out, now, voluntary, TREAD(btf, prev, min_flt),
+					 TREAD(btf, prev, maj_flt), &c);
 		if (ev & CYC_EV_BLOCK)
 			emit(RTSUP_EV_UNSAFE, pt, now, RTSUP_U_BLOCK, 0);
 		if (ev & CYC_EV_CLOSED)
@@ -703,7 +760,7 @@ static __always_inline int on_wakeup(struct task_struct *p, const int btf)
 	struct rtsup_thread *t;
 
 	/* no target, or one whose wakeup time nobody reads: one load */
-	if (!tid_bit(wakemask, tid))
+	if (!maybe_wake_read(tid))
 		return 0;
 	t = bpf_map_lookup_elem(&threads, &tid);
 	if (t && cycle_wakeup_read(t))

@@ -149,7 +149,7 @@ RTSUP_INLINE void can_id_account(struct rtsup_can_id *v, __u64 now, __u32 can_id
 
 	if (v->epoch != epoch) {
 		v->epoch = epoch;
-		minmax_reset(&v->gap.win[epoch & 1]);
+		minmax_reset(&v->gap.win[RTSUP_BANK(epoch)]);
 	}
 	if (v->frames && now >= v->last)
 		metric_add(&v->gap, now - v->last, ewma_w, epoch);

@@ -152,7 +152,7 @@ RTSUP_INLINE void cycle_epoch(struct rtsup_thread *t, __u32 epoch)
 		return;
 	t->epoch = epoch;
 	for (i = 0; i < RTSUP_M_NR; i++)
-		minmax_reset(&t->m[i].win[epoch & 1]);
+		minmax_reset(&t->m[i].win[RTSUP_BANK(epoch)]);
 }
 
 /* cycle_pend_clear - forget the running cycle's unsafe syscalls by number */
@@ -383,12 +383,44 @@ RTSUP_INLINE __u32 cycle_delim_enter(struct rtsup_thread *t, const struct cycle_
 }
 
 /*
- * cycle_delim_exit_timed - will cycle_delim_exit read 'now'? Only when the
- * delimiter did not sleep: otherwise its switch-in was the release.
+ * The hooks read the clock only where a state function uses 'now'. Each
+ * such function decides its path once, in its *_path() function, and acts
+ * on that path; the *_timed() predicate the hooks ask is the same decision
+ * looked up in the paths' CYC_*_TIMED mask. A path added to one is in
+ * the other, and the mask says which paths use the time.
  */
+#define CYC_PATH_TIMED(mask, path)	(((mask) >> (path)) & 1)
+
+/*
+ * cycle_delim_switched_in - in_ts, the first switch-in since the thread
+ * entered its delimiter or last slept in it: the release of the next
+ * cycle (then also "released, not yet returned"); 0 = none yet
+ */
+RTSUP_INLINE __u64 cycle_delim_switched_in(const struct rtsup_cycle_state *cs)
+{
+	return cs->in_delim ? cs->in_ts : 0;
+}
+
+/* The paths of cycle_delim_exit. */
+enum cycle_exit_path {
+	CYC_EXIT_NONE,		/* no delimiter entered: nothing released */
+	CYC_EXIT_SWITCHED_IN,	/* released at cycle_delim_switched_in() */
+	CYC_EXIT_NO_SLEEP,	/* not switched in since entry: released now */
+};
+#define CYC_EXIT_TIMED	(1u << CYC_EXIT_NO_SLEEP)
+
+/* cycle_delim_exit_path - which path cycle_delim_exit takes */
+RTSUP_INLINE enum cycle_exit_path cycle_delim_exit_path(const struct rtsup_cycle_state *cs)
+{
+	if (!cs->in_delim)
+		return CYC_EXIT_NONE;
+	return cycle_delim_switched_in(cs) ? CYC_EXIT_SWITCHED_IN : CYC_EXIT_NO_SLEEP;
+}
+
+/* cycle_delim_exit_timed - will cycle_delim_exit read 'now'? */
 RTSUP_INLINE int cycle_delim_exit_timed(const struct rtsup_thread *t)
 {
-	return t->cs.in_delim && !t->cs.in_ts;
+	return CYC_PATH_TIMED(CYC_EXIT_TIMED, cycle_delim_exit_path(&t->cs));
 }
 
 /*
@@ -400,9 +432,10 @@ RTSUP_INLINE void cycle_delim_exit(struct rtsup_thread *t, __u64 now, int interr
 				   __u64 minflt, __u64 majflt)
 {
 	struct rtsup_cycle_state *cs = &t->cs;
-	__u64 start = cs->in_ts ? cs->in_ts : now;
+	enum cycle_exit_path path = cycle_delim_exit_path(cs);
+	__u64 start = path == CYC_EXIT_SWITCHED_IN ? cs->in_ts : now;
 
-	if (!cs->in_delim)
+	if (path == CYC_EXIT_NONE)
 		return;
 	cs->in_delim = 0;
 	if (interrupted)
@@ -416,7 +449,7 @@ RTSUP_INLINE void cycle_delim_exit(struct rtsup_thread *t, __u64 now, int interr
 		cs->last_expected = cs->wake_ts;
 	else
 		cs->last_expected = 0;
-	if (cs->in_ts) {
+	if (path == CYC_EXIT_SWITCHED_IN) {
 		/* released at a switch-in: keep what ran since, not what waited */
 		__u64 cpu = cs->cpu_acc, since = cs->run_since;
 		__u32 preempt = cs->preempt;
@@ -472,7 +505,7 @@ RTSUP_INLINE __u32 cycle_switch_in(struct rtsup_thread *t, __u64 now, __s32 cpu,
 	cs->last_cpu = cpu;
 	cs->run_since = now;
 	if (cs->in_delim) {
-		if (!cs->in_ts)
+		if (!cycle_delim_switched_in(cs))
 			cs->in_ts = now;
 		return ev;
 	}
@@ -553,18 +586,99 @@ RTSUP_INLINE __u32 cycle_settle(struct rtsup_thread *t, struct cycle_switch_rec 
 	return cycle_switch_in(t, r->now, r->cpu, r->minflt, r->majflt);
 }
 
-/*
- * cycle_switch_out_timed - will cycle_switch_out read 'now'? Not when the
- * thread sleeps in its delimiter, nor outside a cycle: the common
- * switch-out of a periodic thread needs no clock read.
- */
+/* The paths of cycle_switch_out. */
+enum cycle_out_path {
+	CYC_OUT_DELIM_SLEEP,	/* in the delimiter, it sleeps: that is its wait */
+	CYC_OUT_DELIM_EARLY,	/* preempted in the delimiter, not released yet */
+	CYC_OUT_DELIM_RUNNING,	/* preempted after its release, before the return */
+	CYC_OUT_DELIM_UNSEEN,	/* the same, its switch-in unseen: no CPU time */
+	CYC_OUT_IDLE,		/* no cycle running */
+	CYC_OUT_PREEMPT,	/* preempted inside a cycle */
+	CYC_OUT_BLOCK,		/* blocks inside a delimiter-mode cycle */
+	CYC_OUT_ACT_END,	/* blocks: its activation ends */
+};
+/* the common switch-out of a periodic thread (into its sleep) reads no clock */
+#define CYC_OUT_TIMED	((1u << CYC_OUT_DELIM_RUNNING) | (1u << CYC_OUT_PREEMPT) | \
+			 (1u << CYC_OUT_BLOCK) | (1u << CYC_OUT_ACT_END))
+
+/* cycle_switch_out_path - which path cycle_switch_out takes */
+RTSUP_INLINE enum cycle_out_path cycle_switch_out_path(const struct rtsup_cycle_state *cs,
+							int voluntary)
+{
+	if (cs->in_delim) {
+		if (voluntary)
+			return CYC_OUT_DELIM_SLEEP;
+		if (!cycle_delim_switched_in(cs))
+			return CYC_OUT_DELIM_EARLY;
+		return cs->run_since ? CYC_OUT_DELIM_RUNNING : CYC_OUT_DELIM_UNSEEN;
+	}
+	if (!cs->start)
+		return CYC_OUT_IDLE;
+	if (!voluntary)
+		return CYC_OUT_PREEMPT;
+	return cs->mode == RTSUP_MODE_DELIM ? CYC_OUT_BLOCK : CYC_OUT_ACT_END;
+}
+
+/* cycle_switch_out_timed - will cycle_switch_out read 'now'? */
 RTSUP_INLINE int cycle_switch_out_timed(const struct rtsup_thread *t, int voluntary)
 {
-	const struct rtsup_cycle_state *cs = &t->cs;
+	return CYC_PATH_TIMED(CYC_OUT_TIMED, cycle_switch_out_path(&t->cs, voluntary));
+}
 
-	if (cs->in_delim)
-		return !voluntary && cs->in_ts && cs->run_since;
-	return cs->start != 0;
+/* cycle_add_cpu - CPU time since the switch-in, if it was seen */
+RTSUP_INLINE void cycle_add_cpu(struct rtsup_cycle_state *cs, __u64 now)
+{
+	if (cs->run_since && now > cs->run_since)
+		cs->cpu_acc += now - cs->run_since;
+}
+
+/*
+ * cycle_switch_out_on - cycle_switch_out on the path its caller decided
+ * already: path is cycle_switch_out_path(&t->cs, voluntary)
+ */
+RTSUP_INLINE __u32 cycle_switch_out_on(struct rtsup_thread *t, const struct cycle_cfg *cfg,
+				       enum cycle_out_path path, __u64 now, int voluntary,
+				       __u64 minflt, __u64 majflt, struct rtsup_cycle *out)
+{
+	struct rtsup_cycle_state *cs = &t->cs;
+	__u32 ev = 0;
+
+	if (voluntary)
+		t->vol_cs++;
+	else
+		t->invol_cs++;
+	switch (path) {
+	case CYC_OUT_DELIM_SLEEP:
+		/* it sleeps: the release comes later, and this is its wait */
+		if (!cs->delim_key)
+			cs->delim_key = cs->cand_key;
+		cs->in_ts = 0;
+		cs->cpu_acc = 0;
+		cs->preempt = 0;
+		break;
+	case CYC_OUT_DELIM_EARLY:
+	case CYC_OUT_IDLE:
+		break;
+	case CYC_OUT_DELIM_RUNNING:	/* after its release, before the syscall returned */
+	case CYC_OUT_DELIM_UNSEEN:
+	case CYC_OUT_PREEMPT:
+		cs->preempt++;
+		cycle_add_cpu(cs, now);
+		break;
+	case CYC_OUT_BLOCK:
+		cs->blocks++;
+		/* a stop or a handler after an interrupted sleep: reported if no resume */
+		if (!(cs->flags & RTSUP_CS_INTR))
+			ev |= CYC_EV_BLOCK;
+		cycle_add_cpu(cs, now);
+		break;
+	case CYC_OUT_ACT_END:
+		ev |= cycle_close(t, cfg, now, minflt, majflt, out);
+		cycle_account(t, cfg, out);
+		return ev;
+	}
+	cs->run_since = 0;
+	return ev;
 }
 
 /*
@@ -575,50 +689,8 @@ RTSUP_INLINE __u32 cycle_switch_out(struct rtsup_thread *t, const struct cycle_c
 				    __u64 now, int voluntary, __u64 minflt,
 				    __u64 majflt, struct rtsup_cycle *out)
 {
-	struct rtsup_cycle_state *cs = &t->cs;
-	__u32 ev = 0;
-
-	if (voluntary)
-		t->vol_cs++;
-	else
-		t->invol_cs++;
-	if (cs->in_delim) {
-		if (voluntary) {
-			/* it sleeps: the release comes later, and this is its wait */
-			if (!cs->delim_key)
-				cs->delim_key = cs->cand_key;
-			cs->in_ts = 0;
-			cs->cpu_acc = 0;
-			cs->preempt = 0;
-		} else if (cs->in_ts) {
-			/* preempted after its release, before the syscall returned */
-			cs->preempt++;
-			if (cs->run_since && now > cs->run_since)
-				cs->cpu_acc += now - cs->run_since;
-		}
-		cs->run_since = 0;
-		return 0;
-	}
-	if (!cs->start) {
-		cs->run_since = 0;
-		return 0;
-	}
-	if (!voluntary) {
-		cs->preempt++;
-	} else if (cs->mode == RTSUP_MODE_DELIM) {
-		cs->blocks++;
-		/* a stop or a handler after an interrupted sleep: reported if no resume */
-		if (!(cs->flags & RTSUP_CS_INTR))
-			ev |= CYC_EV_BLOCK;
-	} else {
-		ev |= cycle_close(t, cfg, now, minflt, majflt, out);
-		cycle_account(t, cfg, out);
-		return ev;
-	}
-	if (cs->run_since && now > cs->run_since)
-		cs->cpu_acc += now - cs->run_since;
-	cs->run_since = 0;
-	return ev;
+	return cycle_switch_out_on(t, cfg, cycle_switch_out_path(&t->cs, voluntary), now,
+				   voluntary, minflt, majflt, out);
 }
 
 /* cycle_syscall - a syscall other than the delimiter; 'unsafe' per class */

@@ -18,8 +18,27 @@
 #define RTSUP_DEFAULT_THREADS	4096	/* default capacity of the thread map */
 #define RTSUP_UNTRACKED_MAX	16384	/* untracked threads counted at once */
 /*
- * "tidmask": one bit per thread id (PID_MAX_LIMIT is 2^22) that may have an
- * entry in the thread map; set before the entry is added, never cleared.
+ * The tid bitmaps: the hooks' first test, one load and no lookup, so that
+ * a thread that is no target costs nothing more. One bit per thread id
+ * (PID_MAX_LIMIT is 2^22), in .bss (rtsup.bpf.c), read and set by the
+ * hooks and the collector; changed atomically, since the hooks on other
+ * CPUs and the collector change other bits of the same word.
+ *
+ * tidmask: the thread may have an entry in the thread map; a hook looks a
+ *   thread up only when its bit is set. Set before the entry is added
+ *   (tid_mark_new), so no entry is ever missed. Never cleared: a stale
+ *   bit costs one failed lookup, and clearing it would race with another
+ *   CPU adding the same tid.
+ * wakemask: the thread's next wakeup time may be read (cycle_wakeup_read).
+ *   sched_wakeup looks the thread up only when it is set; sched_switch
+ *   looks it up at its switch-in when set and holds the switch-in in a
+ *   per-CPU record when clear (cycle_switch_in_later). A set bit is
+ *   always safe (one lookup more); a clear bit only while the entry's
+ *   wakeups are not read (cycle_wakeup_read() false, or it exited). So it
+ *   is set with tidmask for a new thread, and after every event that
+ *   changes what that reads kept equal to it (note_wake: wake_bit_sync).
+ *   It is set only with or after the tidmask bit, which stays: a set
+ *   wakemask bit implies a set tidmask bit; a clear tidmask bit answers both.
  */
 #define RTSUP_TIDMASK_WORDS	((1U << 22) / 64)
 #define RTSUP_TIDMASK_WORD(tid)	(((tid) >> 6) & (RTSUP_TIDMASK_WORDS - 1))
@@ -30,11 +49,7 @@
 #define RTSUP_INLINE static inline __attribute__((always_inline))
 #endif
 
-/*
- * tid_bit, tid_bit_set, tid_bit_clear - a thread's bit in a tid bitmap
- * (tidmask, wakemask). Changed atomically: the hooks on other CPUs and the
- * collector change other bits of the same word.
- */
+/* tid_bit, tid_bit_set, tid_bit_clear - a thread's bit in a tid bitmap */
 RTSUP_INLINE int tid_bit(const __u64 *mask, __u32 tid)
 {
 	return (mask[RTSUP_TIDMASK_WORD(tid)] & RTSUP_TIDMASK_BIT(tid)) != 0;
@@ -48,6 +63,25 @@ RTSUP_INLINE void tid_bit_set(__u64 *mask, __u32 tid)
 RTSUP_INLINE void tid_bit_clear(__u64 *mask, __u32 tid)
 {
 	__sync_fetch_and_and(&mask[RTSUP_TIDMASK_WORD(tid)], ~RTSUP_TIDMASK_BIT(tid));
+}
+
+/* tid_mark_new - before a thread's entry is added: a target, its wakeups read */
+RTSUP_INLINE void tid_mark_new(__u64 *tidmask, __u64 *wakemask, __u32 tid)
+{
+	tid_bit_set(tidmask, tid);
+	/* a new thread's wakeups are read until it shows a delimiter */
+	tid_bit_set(wakemask, tid);
+}
+
+/* wake_bit_sync - the thread's wakemask bit set to 'want'; no atomic when it is */
+RTSUP_INLINE void wake_bit_sync(__u64 *wakemask, __u32 tid, int want)
+{
+	if (tid_bit(wakemask, tid) == want)
+		return;
+	if (want)
+		tid_bit_set(wakemask, tid);
+	else
+		tid_bit_clear(wakemask, tid);
 }
 
 /* Metrics measured once per cycle. */
@@ -115,13 +149,24 @@ struct rtsup_minmax {
 };
 
 /* Lifetime statistics of one metric; min/max also per interval bank. */
+/*
+ * Interval windows. Counts, sums and histograms in the maps only grow: an
+ * interval's are the difference of two snapshots (model.c). Min and max
+ * cannot be subtracted: they go into one of two banks, win[RTSUP_BANK(epoch)].
+ * Userspace increments epoch when an interval ends, then reads the bank of
+ * the epoch that ended, which the hooks no longer write; a hook resets a
+ * bank the first time it writes it in a new epoch (cycle_epoch, can.h).
+ * Nothing is reset from userspace, so nothing is lost between read and reset.
+ */
+#define RTSUP_BANK(epoch)	((epoch) & 1)
+
 struct rtsup_metric_stats {
 	__u64 count;
 	__u64 sum;
 	__u64 min;
 	__u64 max;
 	__s64 ewma;		/* fixed point, RTSUP_EWMA_SHIFT fraction bits */
-	struct rtsup_minmax win[2];	/* per-interval min/max, by epoch bit */
+	struct rtsup_minmax win[2];	/* per-interval min/max, by RTSUP_BANK(epoch) */
 	__u32 hist[HIST_BUCKETS];
 };
 
@@ -165,7 +210,7 @@ struct rtsup_cycle_state {
 	__u64 last_expected;	/* expected release of the running cycle */
 	__u64 nominal;		/* last nominal period (expected deltas) */
 	__u64 wake_ts;		/* last wakeup while sleeping */
-	__u64 in_ts;		/* last switch-in while in the delimiter */
+	__u64 in_ts;		/* in the delimiter: cycle_delim_switched_in() */
 	__u64 minflt0;		/* fault counters at cycle start */
 	__u64 majflt0;
 	__u32 mode;		/* enum rtsup_mode */

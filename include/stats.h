@@ -53,7 +53,7 @@ RTSUP_INLINE void metric_init(struct rtsup_metric_stats *s)
 RTSUP_SUBPROG void metric_add(struct rtsup_metric_stats *s, __u64 v, __u32 w,
 			     __u32 epoch)
 {
-	struct rtsup_minmax *mm = &s->win[epoch & 1];
+	struct rtsup_minmax *mm = &s->win[RTSUP_BANK(epoch)];
 	__u32 b = hist_bucket(v);
 
 	/* entries start all-zero: the first value sets min */

@@ -144,7 +144,6 @@ static pid_t spawn_cmd(char **cmd, int *go_fd)
 	return pid;
 }
 
-/* self_in - what the supervisor knows about itself this interval */
 /*
  * The overhead check samples: BPF statistics are on for a short window
  * (OVERHEAD_WINDOW, at most an interval) at the start of one interval in
@@ -156,10 +155,13 @@ static pid_t spawn_cmd(char **cmd, int *go_fd)
 #define OVERHEAD_EVERY 30
 #define OVERHEAD_WINDOW 100000000ULL	/* ns */
 
+#define OVERHEAD_CLOSED	-1	/* rt0: no window open */
+#define OVERHEAD_NONE	-1.0	/* pct: nothing measured (yet, or --no-overhead) */
+
 struct overhead {
-	long long rt0;		/* run time when the window opened, -1 = closed */
+	long long rt0;		/* run time when the window opened, or OVERHEAD_CLOSED */
 	__u64 t0, end;		/* when the window opened, when it closes */
-	double pct;		/* the last measure, -1 = none yet */
+	double pct;		/* the last measure, or OVERHEAD_NONE */
 	unsigned int n;		/* intervals so far */
 };
 
@@ -168,13 +170,13 @@ static void overhead_close(struct overhead *ov, struct loader *l, __u64 now, boo
 {
 	long long rt;
 
-	if (ov->rt0 < 0 || (!force && now < ov->end))
+	if (ov->rt0 == OVERHEAD_CLOSED || (!force && now < ov->end))
 		return;
 	rt = loader_run_time(l);
 	if (rt >= 0 && now > ov->t0)
 		ov->pct = (rt - ov->rt0) / (double)(now - ov->t0) * 100;
 	loader_stats(l, false);
-	ov->rt0 = -1;
+	ov->rt0 = OVERHEAD_CLOSED;
 }
 
 /* overhead_interval - an interval begins: maybe open a window; the last measure */
@@ -184,7 +186,7 @@ static double overhead_interval(struct overhead *ov, struct loader *l, const str
 	__u64 len = (__u64)(o->interval * 1e9);
 
 	if (o->no_overhead)
-		return -1;
+		return OVERHEAD_NONE;
 	overhead_close(ov, l, now, true);
 	if (!last && ov->n++ % OVERHEAD_EVERY == 0 && !loader_stats(l, true)) {
 		ov->rt0 = loader_run_time(l);
@@ -194,14 +196,15 @@ static double overhead_interval(struct overhead *ov, struct loader *l, const str
 	return ov->pct;
 }
 
+/* self_in - what the supervisor knows about itself this interval */
 static void self_in(struct self_in *in, const struct collector *c, const struct supervisor *s,
 		    double overhead_pct, __u64 *last_drops)
 {
 	in->th = &s->cfg.defaults.th;
 	in->overhead_pct = overhead_pct;
-	in->lost_events = c->counters[RTSUP_C_RB_DROPS] + c->counters[RTSUP_C_CYC_DROPS] -
-			  *last_drops;
-	*last_drops = c->counters[RTSUP_C_RB_DROPS] + c->counters[RTSUP_C_CYC_DROPS];
+	/* the interval's: the counters never go back (read_counters) */
+	in->lost_events = lost_records(c->counters) - *last_drops;
+	*last_drops = lost_records(c->counters);
 	in->untracked_threads = c->counters[RTSUP_C_MAP_FULL];
 }
 
@@ -258,7 +261,7 @@ static int run_live(struct options *o, struct supervisor *s)
 	struct can_model cm;
 	struct actions act;
 	__u64 start, next, last, now, end = 0, last_drops = 0;
-	struct overhead ov = { .rt0 = -1, .pct = -1 };
+	struct overhead ov = { .rt0 = OVERHEAD_CLOSED, .pct = OVERHEAD_NONE };
 	pid_t child = -1;
 	int go_fd = -1, status = 0, err = 1;
 	enum level worst = LEVEL_OK;

@@ -36,11 +36,12 @@ def settle_bound(preempted):
     pytest.fail(f"no unpreempted run of releases in the first {len(preempted)} cycles")
 
 
-def run_traced(cmd, name, out, timeout=60, args=()):
-    """Trace the thread named 'name' while cmd runs; return (truth, thread)."""
+def trace_while(drive, name, out, args=()):
+    """Trace the thread named 'name' while drive() runs its program, which
+    writes its truth to 'out'; return (truth, thread)."""
     tr = Trace(["--comm", name] + list(args))
     try:
-        subprocess.run(cmd, check=True, timeout=timeout)
+        drive()
         _, summary, _ = tr.stop()
     finally:
         if tr.proc.poll() is None:
@@ -49,6 +50,12 @@ def run_traced(cmd, name, out, timeout=60, args=()):
     got = [t for t in summary["threads"] if t["tid"] == truth["tid"]]
     assert len(got) == 1, summary["threads"]
     return truth, got[0]
+
+
+def run_traced(cmd, name, out, timeout=60, args=()):
+    """Trace the thread named 'name' while cmd runs; return (truth, thread)."""
+    return trace_while(lambda: subprocess.run(cmd, check=True, timeout=timeout), name, out,
+                       args)
 
 
 def test_python_loop_with_sigalrm(bpf, tmp_path):
@@ -113,17 +120,10 @@ def test_read_of_timerfd_is_the_only_boundary(bpf, tmp_path):
     the fd the thread sleeps in (the timerfd), not on every read (the pipe
     read inside the cycle); and the fifth name is not dropped."""
     name, out, cycles = unique_prefix() + "tfd", tmp_path / "tfd.json", 2000
-    tr = Trace(["--comm", name, "--cycle-syscall",
-                "clock_nanosleep,nanosleep,epoll_wait,poll,read"])
-    try:
-        subprocess.run([str(ROOT / "build" / "progs" / "timerfd_loop"), name, "1000",
-                        str(cycles), str(out)], check=True, timeout=60)
-        _, summary, _ = tr.stop()
-    finally:
-        if tr.proc.poll() is None:
-            tr.proc.kill()
-    truth = json.loads(Path(out).read_text())
-    t = [x for x in summary["threads"] if x["tid"] == truth["tid"]][0]
+    truth, t = run_traced([str(ROOT / "build" / "progs" / "timerfd_loop"), name, "1000",
+                           str(cycles), str(out)], name, out,
+                          args=["--cycle-syscall",
+                                "clock_nanosleep,nanosleep,epoll_wait,poll,read"])
     tot = t["total"]
     assert t["mode"] == "delimiter"
     # the first timerfd read fixes the key; every cycle after it is counted
@@ -160,8 +160,8 @@ def test_stopped_and_continued_loop(bpf, tmp_path):
     """SIGSTOP/SIGCONT (job control, a debugger) while the loop waits: the
     kernel restarts the wait, which is neither a cycle boundary nor a block."""
     name, out, cycles, stops = unique_prefix() + "st", tmp_path / "st.json", 2000, 5
-    tr = Trace(["--comm", name, "--cycle-syscall", "read"])
-    try:
+
+    def stop_and_continue():
         p = subprocess.Popen([str(ROOT / "build" / "progs" / "timerfd_loop"), name, "1000",
                               str(cycles), str(out)])
         time.sleep(0.3)
@@ -171,12 +171,8 @@ def test_stopped_and_continued_loop(bpf, tmp_path):
             os.kill(p.pid, signal.SIGCONT)
             time.sleep(0.1)
         assert p.wait(timeout=60) == 0
-        _, summary, _ = tr.stop()
-    finally:
-        if tr.proc.poll() is None:
-            tr.proc.kill()
-    truth = json.loads(Path(out).read_text())
-    t = [x for x in summary["threads"] if x["tid"] == truth["tid"]][0]
+
+    truth, t = trace_while(stop_and_continue, name, out, args=["--cycle-syscall", "read"])
     tot = t["total"]
     # the stops happened: each one let the timer expire ~20 times unread
     assert truth["missed_expirations"] >= stops * 10

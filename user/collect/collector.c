@@ -96,10 +96,8 @@ static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, bool 
 	strncpy(t->comm, comm, RTSUP_COMM_LEN - 1);
 	if (process)
 		bpf_map_update_elem(bpf_map__fd(c->skel->maps.tgids), &k, &one, BPF_ANY);
-	/* the hooks look a thread up only when its bit is set (rtsup.h) */
-	tid_bit_set(c->skel->bss->tidmask, key);
-	/* and read its wakeups until it shows a delimiter (rtsup.bpf.c) */
-	tid_bit_set(c->skel->bss->wakemask, key);
+	/* the hooks look a thread up only when its bits are set (rtsup.h) */
+	tid_mark_new(c->skel->bss->tidmask, c->skel->bss->wakemask, key);
 	/* the kernel may have added it since attach: keep its entry */
 	if (bpf_map_update_elem(bpf_map__fd(c->skel->maps.threads), &key, t, BPF_NOEXIST) &&
 	    errno != EEXIST) {
@@ -156,6 +154,15 @@ int collector_poll(struct collector *c, int ms)
 	return err == -EINTR ? 0 : err;
 }
 
+/*
+ * counter_base - what userspace adds to a kernel counter: the threads the
+ * start-up scan could not add are untracked too, never counted by the kernel
+ */
+static __u64 counter_base(const struct collector *c, __u32 k)
+{
+	return k == RTSUP_C_MAP_FULL ? c->untracked_scan : 0;
+}
+
 /* read_counters - sum the per-CPU counters of the kernel side */
 static void read_counters(struct collector *c)
 {
@@ -165,8 +172,7 @@ static void read_counters(struct collector *c)
 	int i;
 
 	for (k = 0; k < RTSUP_C_NR; k++) {
-		/* the start-up scan's misses are threads the kernel side never counted */
-		__u64 sum = k == RTSUP_C_MAP_FULL ? c->untracked_scan : 0;
+		__u64 sum = counter_base(c, k);
 
 		if (ncpu <= 0 || bpf_map_lookup_elem(fd, &k, vals))
 			continue;	/* keep the last sum: counters never go back */
@@ -391,29 +397,56 @@ static int read_threads(struct collector *c)
 	return 0;
 }
 
+/*
+ * An interval, as collector_sample reads it: epoch_flip ends it in the
+ * kernel (rtsup.h, "Interval windows"); every thread is marked unseen with
+ * an empty interval (mark_unseen), the thread map read marks those it
+ * finds (take: the snapshot difference, and alive from the entry), and
+ * those it did not find are dead only after a complete read (mark_absent).
+ */
+
+/* epoch_flip - the interval ends: its min/max bank is no longer written */
+static void epoch_flip(struct collector *c)
+{
+	c->bank = RTSUP_BANK(c->skel->bss->epoch);
+	c->skel->bss->epoch++;
+}
+
+/* mark_unseen - before the read: a thread not in the map any more had an empty interval */
+static void mark_unseen(struct model *m)
+{
+	int i;
+
+	for (i = 0; i < m->n; i++) {
+		m->t[i].seen = false;
+		model_idle(&m->t[i]);
+	}
+}
+
+/* mark_absent - after the read: an entry not read is dead only if the whole map was */
+static void mark_absent(struct model *m, bool read_complete)
+{
+	int i;
+
+	for (i = 0; i < m->n; i++)
+		if (!m->t[i].seen && thread_dead(read_complete, false, false))
+			m->t[i].alive = false;
+}
+
 int collector_sample(struct collector *c)
 {
-	int i, err;
+	int err;
 
-	/* new interval: the kernel writes the other min/max bank from now on */
-	c->bank = c->skel->bss->epoch & 1;
-	c->skel->bss->epoch++;
+	epoch_flip(c);
 	update_clocks(c);
 	collector_poll(c, 0);
 	/* what came in the interval (the poll above was its last), in time order */
 	eventlog_finish(&c->events);
-	/* a thread not in the map any more (reaped) had an empty interval */
-	for (i = 0; i < c->model.n; i++) {
-		c->model.t[i].seen = false;
-		model_idle(&c->model.t[i]);
-	}
+	mark_unseen(&c->model);
 	err = read_threads(c);
 	if (err)
 		fprintf(stderr, "rtsup-trace: reading the thread map: %s\n", strerror(-err));
-	/* an entry not read is a dead thread only if the whole map was read */
-	for (i = 0; i < c->model.n; i++)
-		if (!c->model.t[i].seen && thread_dead(!err, false, false))
-			c->model.t[i].alive = false;
+	mark_absent(&c->model, !err);
 	read_unsafe_sys(c);
 	read_counters(c);
 	return err;

@@ -42,6 +42,12 @@ struct collector {
 	void *sink_ctx;
 };
 
+/* lost_records - what the ring buffers dropped so far: rare events and cycle records */
+static inline __u64 lost_records(const __u64 *counters)
+{
+	return counters[RTSUP_C_RB_DROPS] + counters[RTSUP_C_CYC_DROPS];
+}
+
 /* collector_init - ring buffer, initial scan of the targets */
 int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct options *o);
 /* collector_scan - add the threads of these targets found now (e.g. a restarted unit) */

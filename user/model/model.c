@@ -188,7 +188,7 @@ void metric_view_window(const struct rtsup_metric_stats *cur,
 			const struct rtsup_metric_stats *prev, __u32 bank,
 			struct metric_view *v)
 {
-	const struct rtsup_minmax *mm = &cur->win[bank & 1];
+	const struct rtsup_minmax *mm = &cur->win[RTSUP_BANK(bank)];
 	__u64 h[HIST_BUCKETS];
 
 	if (!prev) {
@@ -205,6 +205,17 @@ void metric_view_window(const struct rtsup_metric_stats *cur,
 	v->ewma = (double)cur->ewma / (1 << RTSUP_EWMA_SHIFT);
 	hist_delta(cur->hist, prev->hist, h);
 	view_quantiles(h, cur->sum - prev->sum, v);
+}
+
+/*
+ * snapshot_base - what an interval of cur is measured from: the previous
+ * snapshot, or nothing (since zero) when the kernel restarted the thread's
+ * statistics in between (first delimiter, settled period, exec: resets)
+ */
+static const struct rtsup_thread *snapshot_base(const struct rtsup_thread *cur,
+						const struct rtsup_thread *prev)
+{
+	return prev && cur->resets == prev->resets ? prev : NULL;
 }
 
 /* span_counters - counters of cur minus prev (prev may be NULL) */
@@ -249,9 +260,7 @@ void span_window(const struct rtsup_thread *cur, const struct rtsup_thread *prev
 {
 	int i;
 
-	/* stats restarted (first delimiter): the window starts from zero */
-	if (prev && cur->resets != prev->resets)
-		prev = NULL;
+	prev = snapshot_base(cur, prev);
 	span_counters(cur, prev, s);
 	for (i = 0; i < RTSUP_M_NR; i++)
 		metric_view_window(&cur->m[i], prev ? &prev->m[i] : NULL, bank, &s->m[i]);
@@ -280,8 +289,7 @@ static int life_add(struct thread_model *tm, const struct rtsup_thread *t,
 			return -1;
 	}
 	/* the kernel dropped the start-up statistics: so does the lifetime */
-	if (prev && t->resets != prev->resets)
-		prev = NULL;
+	prev = snapshot_base(t, prev);
 	if (!prev)
 		memset(tm->life_hist, 0, sizeof(*tm->life_hist));
 	for (i = 0; i < RTSUP_M_NR; i++) {

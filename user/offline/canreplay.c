@@ -66,7 +66,7 @@ static void interval(struct can_replay *r, __u64 at, bool end)
 	struct self_in self = { .overhead_pct = -1, .th = &r->s->cfg.defaults.th };
 	double len = (at - r->last) / 1e9;
 
-	r->m.bank = r->epoch & 1;
+	r->m.bank = RTSUP_BANK(r->epoch);
 	r->epoch++;
 	r->c.bank = r->m.bank;
 	supervise_interval(r->s, &r->c.model, r->c.bank, &self, at);

@@ -132,13 +132,12 @@ static void on_mark(struct replay *r, const struct rec_interval *ri, bool end)
 	};
 	int i;
 
-	self.lost_events = ri->counters[RTSUP_C_RB_DROPS] + ri->counters[RTSUP_C_CYC_DROPS] -
-			   c->counters[RTSUP_C_RB_DROPS] - c->counters[RTSUP_C_CYC_DROPS];
+	self.lost_events = lost_records(ri->counters) - lost_records(c->counters);
 	memcpy(c->counters, ri->counters, sizeof(c->counters));
 	for (i = 0; r->pf && i < c->model.n; i++)
 		perfetto_name(r->pf, &r->named, &r->nnamed, &r->cap, c->model.t[i].tgid,
 			      c->model.t[i].tid, c->model.t[i].comm, c->model.t[i].pcomm);
-	c->bank = r->epoch & 1;
+	c->bank = RTSUP_BANK(r->epoch);
 	r->epoch++;
 	/* what the live collector computes per sample: the change since the last mark */
 	for (i = 0; i < c->model.n; i++)

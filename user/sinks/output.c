@@ -54,11 +54,22 @@ static json_t *json_metric(const struct metric_view *v)
 			 "p999", (json_int_t)v->p999);
 }
 
+/* json_unsafe - RT-unsafe counts by reason */
+static json_t *json_unsafe(const __u64 *n)
+{
+	json_t *u = json_object();
+	int i;
+
+	for (i = 0; i < RTSUP_U_NR; i++)
+		json_object_set_new(u, unsafe_reason_name(i), json_integer(n[i]));
+	return u;
+}
+
 /* json_span - counters and metrics over one span */
 static json_t *json_span(const struct span_view *s, const struct thread_model *tm,
 			 bool window)
 {
-	json_t *o = json_object(), *u = json_object(), *sys = json_object();
+	json_t *o = json_object(), *u = json_unsafe(s->unsafe), *sys = json_object();
 	int i;
 
 	json_object_set_new(o, "cycles", json_integer(s->cycles));
@@ -66,8 +77,6 @@ static json_t *json_span(const struct span_view *s, const struct thread_model *t
 	json_object_set_new(o, "overruns", json_integer(s->overruns));
 	for (i = 0; i < RTSUP_M_NR; i++)
 		json_object_set_new(o, metric_name(i), json_metric(&s->m[i]));
-	for (i = 0; i < RTSUP_U_NR; i++)
-		json_object_set_new(u, unsafe_reason_name(i), json_integer(s->unsafe[i]));
 	json_object_set_new(u, "total", json_integer(s->unsafe_total));
 	json_object_set_new(o, "unsafe", u);
 	for (i = 0; i < tm->nsys; i++) {
@@ -144,16 +153,10 @@ static json_t *json_thread(const struct collector *c, const struct supervisor *s
 	if (tm->cur.exited) {
 		json_object_set_new(o, "exit_mid_cycle", json_boolean(tm->cur.exit_mid_cycle));
 		json_object_set_new(o, "exit_code", json_integer(tm->cur.exit_code));
-		if (tm->cur.exit_mid_cycle) {
-			/* the teardown inside the cut cycle, kept out of the totals */
-			json_t *u = json_object();
-			int i;
-
-			for (i = 0; i < RTSUP_U_NR; i++)
-				json_object_set_new(u, unsafe_reason_name(i),
-						    json_integer(tm->cur.exit_unsafe[i]));
-			json_object_set_new(o, "exit_cycle_unsafe", u);
-		}
+		/* the teardown inside the cut cycle, kept out of the totals */
+		if (tm->cur.exit_mid_cycle)
+			json_object_set_new(o, "exit_cycle_unsafe",
+					    json_unsafe(tm->cur.exit_unsafe));
 	}
 	json_object_set_new(o, "process", json_string(tm->pcomm));
 	json_object_set_new(o, "kernel_thread", json_boolean(tm->kthread));
@@ -209,8 +212,10 @@ static json_t *json_event(const struct collector *c, const struct rtsup_event *e
  */
 static json_t *json_fold(const struct collector *c, const struct event_fold *f)
 {
+	static const char *const per_event[] = { "time", "cpu", "tgid", "late_ns", "count" };
 	struct rtsup_event e = { .ts = f->first_ts, .type = f->type, .tid = f->tid };
 	char first[40], last[40];
+	size_t i;
 	json_t *o;
 
 	/* the kind's fields as json_event writes them */
@@ -222,11 +227,8 @@ static json_t *json_fold(const struct collector *c, const struct event_fold *f)
 	}
 	memcpy(e.comm, f->comm, sizeof(e.comm));
 	o = json_event(c, &e);
-	json_object_del(o, "time");
-	json_object_del(o, "cpu");
-	json_object_del(o, "tgid");
-	json_object_del(o, "late_ns");
-	json_object_del(o, "count");
+	for (i = 0; i < sizeof(per_event) / sizeof(per_event[0]); i++)
+		json_object_del(o, per_event[i]);
 	fmt_time(c, f->first_ts, first, sizeof(first));
 	fmt_time(c, f->last_ts, last, sizeof(last));
 	json_object_update_new(o, json_pack("{s:I,s:I,s:s,s:s}", "seen", (json_int_t)f->seen,
@@ -256,6 +258,8 @@ static json_t *json_common(const struct collector *c, const struct supervisor *s
 /*
  * A report is one line of JSON, written piece by piece: a document holding
  * a thousand threads at once cost tens of MiB and most of the CPU time.
+ * Written in pairs, json_begin .. json_end and json_list_begin .. _end;
+ * every piece in between is a jansson value given to json_field, json_item.
  */
 
 /*
@@ -302,85 +306,83 @@ static void json_fields(json_t *o, bool comma)
 	json_decref(o);
 }
 
-/* json_open - a report's first fields (json_common: never empty), left open */
-static void json_open(json_t *o)
+/* json_begin - a report, its first fields (json_common: never empty), left open */
+static void json_begin(json_t *o)
 {
 	putchar('{');
 	json_fields(o, false);
 }
 
-/* json_print - one object, one line, flushed */
-static void json_print(json_t *o)
+/* json_field - ,"key":value into the open report (value freed) */
+static void json_field(const char *key, json_t *v)
 {
-	json_put(o);
-	fputc('\n', stdout);
+	printf(",\"%s\":", key);
+	json_put(v);
+}
+
+/* json_end - the report's end, the end of the line, flushed */
+static void json_end(void)
+{
+	fputs("}\n", stdout);
 	fflush(stdout);
 }
 
-/* json_key - ,"key": before a value streamed into an open object */
-static void json_key(const char *key)
+/* json_list_begin - ,"key":[ an array streamed item by item */
+static void json_list_begin(const char *key, int *n)
 {
-	printf(",\"%s\":", key);
+	printf(",\"%s\":[", key);
+	*n = 0;
+}
+
+/* json_item - the next item of the open array (freed) */
+static void json_item(int *n, json_t *v)
+{
+	if ((*n)++)
+		putchar(',');
+	json_put(v);
+}
+
+/* json_list_end - ] */
+static void json_list_end(void)
+{
+	putchar(']');
 }
 
 /* json_threads - the threads array, one thread object at a time */
 static void json_threads(const struct collector *c, const struct supervisor *sv, bool window)
 {
-	bool first = true;
-	int i;
+	int i, n;
 
-	json_key("threads");
-	putchar('[');
+	json_list_begin("threads", &n);
 	for (i = 0; i < c->model.n; i++) {
 		if (window && c->model.t[i].reported_exit)
 			continue;
-		if (!first)
-			putchar(',');
-		first = false;
-		json_put(json_thread(c, sv, &c->model.t[i], window));
+		json_item(&n, json_thread(c, sv, &c->model.t[i], window));
 	}
-	putchar(']');
-}
-
-/* json_close - the last field, the end of the line, flushed */
-static void json_close(const char *key, json_t *v)
-{
-	json_key(key);
-	json_put(v);
-	fputs("}\n", stdout);
-	fflush(stdout);
+	json_list_end();
 }
 
 static void json_interval(const struct collector *c, const struct supervisor *sv,
 			  double elapsed, double interval)
 {
 	json_t *o = json_common(c, sv, "interval", elapsed);
-	int i;
+	int i, n;
 
 	json_object_set_new(o, "interval_s", json_real(interval));
-	json_open(o);
+	json_begin(o);
 	json_threads(c, sv, true);
-	if (sv->can) {
-		json_key("can");
-		json_put(can_json(sv->can, &sv->cfg, sv->now, interval, false));
-	}
-	json_key("events");
-	putchar('[');
-	for (i = 0; i < (int)c->events.n; i++) {
-		if (i)
-			putchar(',');
-		json_put(json_event(c, &c->events.ev[i]));
-	}
-	putchar(']');
-	json_key("events_folded");
-	putchar('[');
-	for (i = 0; i < (int)c->events.nflood; i++) {
-		if (i)
-			putchar(',');
-		json_put(json_fold(c, &c->events.fold[i]));
-	}
-	putchar(']');
-	json_close("events_not_shown", json_integer(c->events.folded + c->events.dropped));
+	if (sv->can)
+		json_field("can", can_json(sv->can, &sv->cfg, sv->now, interval, false));
+	json_list_begin("events", &n);
+	for (i = 0; i < (int)c->events.n; i++)
+		json_item(&n, json_event(c, &c->events.ev[i]));
+	json_list_end();
+	json_list_begin("events_folded", &n);
+	for (i = 0; i < (int)c->events.nflood; i++)
+		json_item(&n, json_fold(c, &c->events.fold[i]));
+	json_list_end();
+	json_field("events_not_shown", json_integer(c->events.folded + c->events.dropped));
+	json_end();
 }
 
 static void json_summary(const struct collector *c, const struct supervisor *sv,
@@ -391,7 +393,7 @@ static void json_summary(const struct collector *c, const struct supervisor *sv,
 	int i;
 
 	json_object_set_new(o, "events_total", json_integer(c->events_total));
-	json_open(o);
+	json_begin(o);
 	json_threads(c, sv, false);
 	o = json_object();
 	if (sv->can) {
@@ -418,7 +420,8 @@ static void json_summary(const struct collector *c, const struct supervisor *sv,
 	json_object_set_new(o, "violations", vs);
 	json_object_set_new(o, "violations_not_listed", json_integer(sv->v_dropped));
 	json_fields(o, true);	/* the small rest, after the threads */
-	json_close("worst_level", json_string(level_name(supervise_worst(sv, &c->model))));
+	json_field("worst_level", json_string(level_name(supervise_worst(sv, &c->model))));
+	json_end();
 }
 
 /* ---- table ---- */
@@ -448,7 +451,8 @@ static void table_row(const struct thread_model *tm, const struct span_view *s,
 	char pol[16], c[9][16], csw[32];
 	const struct metric_view *p = &s->m[RTSUP_M_PERIOD], *e = &s->m[RTSUP_M_EXEC],
 				 *l = &s->m[RTSUP_M_LATENCY];
-	const char *on = "", *off = "";
+	const char *on = !color ? "" : level == LEVEL_ERROR ? "\033[31m" :
+			 level == LEVEL_WARN ? "\033[33m" : "", *off = *on ? "\033[0m" : "";
 
 	if (tm->policy >= 0)
 		snprintf(pol, sizeof(pol), "%.5s/%d",
@@ -465,13 +469,6 @@ static void table_row(const struct thread_model *tm, const struct span_view *s,
 	us(c[7], 16, l->count, l->max);
 	snprintf(csw, sizeof(csw), "%llu/%llu", (unsigned long long)s->vol_cs,
 		 (unsigned long long)s->invol_cs);
-	if (color && level == LEVEL_ERROR) {
-		on = "\033[31m";
-		off = "\033[0m";
-	} else if (color && level == LEVEL_WARN) {
-		on = "\033[33m";
-		off = "\033[0m";
-	}
 	printf("%s%7u %-15.15s %-9s %7llu %8s %8s %8s %8s %8s %8s %8s %8s %5llu %6llu %13s %s%s\n",
 	       on, tm->tid, tm->comm, pol, (unsigned long long)s->cycles, c[0], c[1], c[2],
 	       c[3], c[4], c[5], c[6], c[7], (unsigned long long)s->misses,
@@ -657,6 +654,9 @@ void output_summary(const struct collector *c, const struct supervisor *s, doubl
 void output_error(const struct options *o, const char *msg)
 {
 	fprintf(stderr, "rtsup-trace: %s\n", msg);
-	if (o && o->json)
-		json_print(json_pack("{s:s}", "error", msg));
+	if (o && o->json) {
+		json_put(json_pack("{s:s}", "error", msg));
+		fputc('\n', stdout);
+		fflush(stdout);
+	}
 }

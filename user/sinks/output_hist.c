@@ -36,6 +36,26 @@ static const __u64 *counts(const struct thread_model *tm, int m, bool window, __
 	return buf;
 }
 
+/* view_marks - where a view's percentiles and maximum are */
+static void view_marks(const struct metric_view *v, __u64 *mark)
+{
+	mark[HD_P50] = v->p50;
+	mark[HD_P99] = v->p99;
+	mark[HD_P999] = v->p999;
+	mark[HD_MAX] = v->max;
+}
+
+/* hist_alloc - n histograms to draw and their counts; false, said, when out of memory */
+static bool hist_alloc(int n, struct hd_hist **hs, __u64 (**bufs)[HIST_BUCKETS])
+{
+	*hs = calloc(n ? n : 1, sizeof(**hs));
+	*bufs = calloc(n ? n : 1, sizeof(**bufs));
+	if (*hs && *bufs)
+		return true;
+	fprintf(stderr, "rtsup-trace: --hist: out of memory\n");
+	return false;
+}
+
 /*
  * marks - what the checks compare metric m with, and where its
  * percentiles are: latency against its max thresholds, exec and cpu
@@ -69,12 +89,8 @@ static void marks(const struct supervisor *sv, const struct thread_model *tm, in
 			mark[HD_ERROR] = period + th->jitter_error_ns;
 		break;
 	}
-	if (!v->count)
-		return;
-	mark[HD_P50] = v->p50;
-	mark[HD_P99] = v->p99;
-	mark[HD_P999] = v->p999;
-	mark[HD_MAX] = v->max;
+	if (v->count)
+		view_marks(v, mark);
 }
 
 /* term_width - the terminal's columns; COLUMNS or 80 when not a terminal */
@@ -90,20 +106,23 @@ static int term_width(void)
 	return 80;
 }
 
+/* hist_draw - the n histograms filled, on stdout; colour only on a terminal, unless told */
+static void hist_draw(const struct options *o, struct hd_hist *hs, int n)
+{
+	if (n)
+		histdraw_print(stdout, hs, n, term_width(),
+			       o->color < 0 ? isatty(STDOUT_FILENO) : o->color);
+}
+
 void hist_table(const struct collector *c, const struct supervisor *sv, bool window)
 {
 	const struct options *o = c->o;
-	bool color = o->color < 0 ? isatty(STDOUT_FILENO) : o->color;
 	struct hd_hist *hs;
 	__u64 (*bufs)[HIST_BUCKETS];
 	int m, i, n;
 
-	hs = calloc(c->model.n ? c->model.n : 1, sizeof(*hs));
-	bufs = calloc(c->model.n ? c->model.n : 1, sizeof(*bufs));
-	if (!hs || !bufs) {
-		fprintf(stderr, "rtsup-trace: --hist: out of memory\n");
+	if (!hist_alloc(c->model.n, &hs, &bufs))
 		goto out;
-	}
 	for (m = 0; m < RTSUP_M_NR; m++) {
 		if (!(o->hist & (1u << m)))
 			continue;
@@ -119,8 +138,7 @@ void hist_table(const struct collector *c, const struct supervisor *sv, bool win
 			marks(sv, tm, m, v, hs[n].mark);
 			n++;
 		}
-		if (n)
-			histdraw_print(stdout, hs, n, term_width(), color);
+		hist_draw(o, hs, n);
 	}
 	fflush(stdout);
 out:
@@ -167,16 +185,13 @@ json_t *hist_json(const struct thread_model *tm, unsigned int metrics, bool wind
  */
 void hist_can_table(const struct can_model *m, const struct options *o)
 {
-	bool color = o->color < 0 ? isatty(STDOUT_FILENO) : o->color;
-	struct hd_hist *hs = calloc(m->n ? m->n : 1, sizeof(*hs));
-	__u64 (*bufs)[HIST_BUCKETS] = calloc(m->n ? m->n : 1, sizeof(*bufs));
+	struct hd_hist *hs;
+	__u64 (*bufs)[HIST_BUCKETS];
 	struct metric_view v;
 	int i, n = 0;
 
-	if (!hs || !bufs) {
-		fprintf(stderr, "rtsup-trace: --hist: out of memory\n");
+	if (!hist_alloc(m->n, &hs, &bufs))
 		goto out;
-	}
 	for (i = 0; i < m->n; i++) {
 		const struct can_entry *e = &m->e[i];
 
@@ -189,14 +204,10 @@ void hist_can_table(const struct can_model *m, const struct options *o)
 		can_gap_life(e, bufs[n]);
 		hs[n].h = bufs[n];
 		can_gap_view_life(e, &v);
-		hs[n].mark[HD_P50] = v.p50;
-		hs[n].mark[HD_P99] = v.p99;
-		hs[n].mark[HD_P999] = v.p999;
-		hs[n].mark[HD_MAX] = v.max;
+		view_marks(&v, hs[n].mark);
 		n++;
 	}
-	if (n)
-		histdraw_print(stdout, hs, n, term_width(), color);
+	hist_draw(o, hs, n);
 	fflush(stdout);
 out:
 	free(hs);

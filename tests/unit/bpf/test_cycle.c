@@ -5,10 +5,12 @@
  * every number is checked exactly.
  */
 #include <stdarg.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <setjmp.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 #include <cmocka.h>
 
 #include "cycle.h"
@@ -1160,6 +1162,84 @@ static void test_cycle_keyed_delimiter(void **state)
 	assert_true(cycle_delim_key(&f->t.cs, 0));	/* clock_nanosleep: no key */
 }
 
+/*
+ * set_bits - one combination of what the clock decisions look at: in the
+ * delimiter, switched in there, on a CPU, a cycle running, delimiter mode,
+ * an interrupted sleep
+ */
+static void set_bits(struct rtsup_thread *t, unsigned int bits)
+{
+	struct rtsup_cycle_state *cs = &t->cs;
+
+	cs->in_delim = bits & 1;
+	cs->in_ts = bits & 2 ? 5 * MS : 0;
+	cs->run_since = bits & 4 ? 6 * MS : 0;
+	cs->start = bits & 8 ? 4 * MS : 0;
+	cs->mode = bits & 16 ? RTSUP_MODE_DELIM : RTSUP_MODE_ACT;
+	cs->flags = bits & 32 ? RTSUP_CS_INTR : 0;
+	cs->last_start = 3 * MS;
+	cs->minflt0 = 0;
+	cs->majflt0 = 0;
+}
+
+/*
+ * The masks of the clock-reading paths are exact, over every combination
+ * of set_bits: a path whose CYC_*_TIMED bit is clear gives the same state
+ * whatever 'now' is (the hooks pass 0 there), a path whose bit is set
+ * uses 'now' in some state, and every path is taken.
+ */
+static void test_cycle_timed_masks_exact(void **state)
+{
+	struct fx *f = *state;
+	__u32 out_taken = 0, out_used = 0, exit_taken = 0, exit_used = 0;
+	unsigned int bits;
+	int vol;
+
+	for (bits = 0; bits < 64; bits++) {
+		for (vol = 0; vol < 2; vol++) {
+			struct rtsup_thread a = f->t, b;
+			struct rtsup_cycle oa = { 0 }, ob = { 0 };
+			enum cycle_out_path path;
+			__u32 eva, evb;
+			bool same;
+
+			set_bits(&a, bits);
+			b = a;
+			path = cycle_switch_out_path(&a.cs, vol);
+			assert_int_equal(cycle_switch_out_timed(&a, vol),
+					 CYC_PATH_TIMED(CYC_OUT_TIMED, path));
+			eva = cycle_switch_out(&a, &f->cfg, 10 * MS, vol, 0, 0, &oa);
+			evb = cycle_switch_out(&b, &f->cfg, 20 * MS, vol, 0, 0, &ob);
+			same = eva == evb && !memcmp(&a, &b, sizeof(a)) &&
+			       !memcmp(&oa, &ob, sizeof(oa));
+			out_taken |= 1u << path;
+			if (!same)
+				out_used |= 1u << path;
+			if (!CYC_PATH_TIMED(CYC_OUT_TIMED, path))
+				assert_true(same);
+		}
+		{
+			struct rtsup_thread a = f->t, b;
+			enum cycle_exit_path path;
+
+			set_bits(&a, bits);
+			b = a;
+			path = cycle_delim_exit_path(&a.cs);
+			assert_int_equal(cycle_delim_exit_timed(&a),
+					 CYC_PATH_TIMED(CYC_EXIT_TIMED, path));
+			cycle_delim_exit(&a, 10 * MS, bits & 32, 0, 0);
+			cycle_delim_exit(&b, 20 * MS, bits & 32, 0, 0);
+			exit_taken |= 1u << path;
+			if (memcmp(&a, &b, sizeof(a)))
+				exit_used |= 1u << path;
+		}
+	}
+	assert_int_equal(out_taken, (1u << (CYC_OUT_ACT_END + 1)) - 1);
+	assert_int_equal(out_used, CYC_OUT_TIMED);
+	assert_int_equal(exit_taken, (1u << (CYC_EXIT_NO_SLEEP + 1)) - 1);
+	assert_int_equal(exit_used, CYC_EXIT_TIMED);
+}
+
 #define T(fn) cmocka_unit_test_setup_teardown(fn, fx_setup, fx_teardown)
 
 int main(void)
@@ -1201,6 +1281,7 @@ int main(void)
 		T(test_cycle_steady_settles_without_reset),
 		T(test_cycle_warmup),
 		T(test_cycle_keyed_delimiter),
+		T(test_cycle_timed_masks_exact),
 	};
 
 	return cmocka_run_group_tests_name("cycle", tests, NULL, NULL);
