@@ -652,7 +652,28 @@ def test_pid_namespace_refused(mount_proc):
 # A loop of N sleeps to absolute 2 ms deadlines (Python 3.11's time.sleep is a
 # clock_nanosleep(TIMER_ABSTIME)), then exec of the same program with the next
 # count; or, halfway, PR_SET_NAME to a new name or a move to another cgroup.
-LOOP_PY = r'''
+# The loops sleep to their own absolute releases (clock_nanosleep with
+# TIMER_ABSTIME through ctypes): time.sleep(t - now) would request its own
+# clock read + the time left, and a preemption before it would shift that
+# release and the period's settling (test_real_programs.py has that race).
+SLEEP_UNTIL_PY = r'''
+import ctypes
+class _Ts(ctypes.Structure):
+    _fields_ = [("sec", ctypes.c_long), ("nsec", ctypes.c_long)]
+# looked up and allocated once, before the loop: no page fault in a cycle
+_nanosleep = ctypes.CDLL(None).clock_nanosleep
+_ts = _Ts()
+_ts_ref = ctypes.byref(_ts)
+# one call through ctypes before the loop, as an RT program warms up: glibc
+# refuses CLOCK_THREAD_CPUTIME_ID (3) without a syscall, so no delimiter
+_nanosleep(3, 0, _ts_ref, None)
+def sleep_until(t):  # CLOCK_MONOTONIC (time.monotonic's clock), TIMER_ABSTIME
+    ns = int(t * 1e9)
+    _ts.sec, _ts.nsec = divmod(ns, 10**9)
+    _nanosleep(1, 1, _ts_ref, None)
+'''
+
+LOOP_PY = SLEEP_UNTIL_PY + r'''
 import ctypes, os, sys, time
 n, rest = int(sys.argv[1]), sys.argv[2:]
 what, arg = rest[:2] if rest[:1] in (["--rename"], ["--move"]) else (None, None)
@@ -664,7 +685,7 @@ for i in range(n):
         with open(os.path.join(arg, "cgroup.procs"), "w") as f:
             f.write(str(os.getpid()))
     t += 0.002
-    time.sleep(max(0.0, t - time.monotonic()))
+    sleep_until(t)
 if rest and not what:
     os.execv(sys.executable, [sys.executable, sys.argv[0]] + rest)
 '''
@@ -760,7 +781,9 @@ def test_reused_tid_is_a_new_thread(tmp_path):
     one's entry (issue 12, item 6)."""
     prog = tmp_path / "loop.py"
     prog.write_text(LOOP_PY)
-    n1, n2 = 1500, 600
+    # the first runs 6 s: the tracer must be up before it ends (a loaded
+    # machine has taken over 3 s to load and attach)
+    n1, n2 = 3000, 600
     first = subprocess.Popen(["/usr/bin/python3", str(prog), str(n1)])
     # one long interval: the dead thread's entry is not freed before the reuse
     tr = Trace(["--pid", str(first.pid), "-i", "60s"])
@@ -787,13 +810,13 @@ def test_reused_tid_is_a_new_thread(tmp_path):
 
 # A second thread (not the leader) runs the loop of LOOP_PY, then execs it:
 # the kernel gives it the leader's tid (de_thread), the leader exits.
-EXEC_FROM_THREAD_PY = r'''
+EXEC_FROM_THREAD_PY = SLEEP_UNTIL_PY + r'''
 import os, sys, threading, time
 def run():
     t = time.monotonic()
     for i in range(int(sys.argv[2])):
         t += 0.002
-        time.sleep(max(0.0, t - time.monotonic()))
+        sleep_until(t)
     os.execv(sys.executable, [sys.executable, sys.argv[1], sys.argv[3]])
 threading.Thread(target=run).start()
 threading.Event().wait()
