@@ -127,18 +127,15 @@ static void foreign_name(__u32 netns, __u32 ifindex, char *buf, size_t len)
 		closedir(d);
 }
 
-/*
- * dev_ifindex - the ifindex an interface the kernel counts under 'key' has
- * now: a --can interface removed and added again has a new one (0: gone)
- */
-static __u32 dev_ifindex(const struct rtsup_bpf *skel, const struct options *o, __u32 key)
+/* watched - which --can interface the kernel counts under 'key', -1: none */
+static int watched(const struct rtsup_bpf *skel, const struct options *o, __u32 key)
 {
 	int i;
 
 	for (i = 0; i < o->ncan; i++)
 		if (skel->bss->can_watch[i].key == key)
-			return skel->bss->can_watch[i].ifindex;
-	return key;
+			return i;
+	return -1;
 }
 
 /* take_if - one interface's counters; its name and bitrate when first seen or back */
@@ -148,12 +145,16 @@ static void take_if(struct can_model *m, const struct rtsup_bpf *skel, __u32 net
 {
 	struct can_iface *f = can_iface_get(m, netns, ifindex, true);
 	bool own = netns == o->can_netns, first;
-	__u32 dev = own ? dev_ifindex(skel, o, ifindex) : 0;
+	int w = own ? watched(skel, o, ifindex) : -1;
+	/* the ifindex it has now: a --can interface re-plugged has a new one, 0: gone */
+	__u32 dev = w >= 0 ? skel->bss->can_watch[w].ifindex : own ? ifindex : 0;
 
 	if (!f)
 		return;
 	first = !f->cur.frames[0] && !f->cur.frames[1] && !f->have_prev;
-	if (first && own) {
+	if (first && w >= 0) {
+		snprintf(f->name, sizeof(f->name), "%s", o->can_ifs[w]);
+	} else if (first && own) {
 		char name[IF_NAMESIZE];
 
 		if (if_indextoname(dev, name))
