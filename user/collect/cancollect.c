@@ -162,7 +162,8 @@ static void take_if(struct can_model *m, const struct rtsup_bpf *skel, __u32 net
 	} else if (first) {
 		foreign_name(netns, ifindex, f->name, sizeof(f->name));
 	}
-	if (own && dev && (first || dev != f->dev_ifindex))	/* a new adapter may run another bitrate */
+	/* an adapter plugged back may run another bitrate */
+	if (own && dev && (first || dev != f->dev_ifindex))
 		f->bitrate = can_bitrate(dev);
 	if (o->can_bitrate)
 		f->bitrate = o->can_bitrate;

@@ -516,8 +516,8 @@ void can_model_judge(struct can_model *m, const struct config *cfg, __u64 now,
 		struct can_entry *e = &m->e[i];
 		const struct can_thresholds *th;
 
-		e->node = config_can_node(cfg, can_iface_name(m, e->key.netns, e->key.ifindex), e->key.can_id,
-					  e->key.dir);
+		e->node = config_can_node(cfg, can_iface_name(m, e->key.netns, e->key.ifindex),
+					  e->key.can_id, e->key.dir);
 		th = e->node >= 0 ? &cc->nodes[e->node].th : &cc->defaults;
 		gap_window(m, e, &gap);
 		learn(e, th, cc->canopen, &gap, now);

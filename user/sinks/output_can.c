@@ -74,7 +74,8 @@ void can_table(const struct can_model *m, const struct config *cfg, __u64 now,
 
 		entry_gap(m, e, total, &v);
 		id_text(e->key.can_id, id, sizeof(id));
-		snprintf(name, sizeof(name), "%s %s%s%.20s", can_iface_name(m, e->key.netns, e->key.ifindex), id,
+		snprintf(name, sizeof(name), "%s %s%s%.20s",
+			 can_iface_name(m, e->key.netns, e->key.ifindex), id,
 			 e->node >= 0 ? " " : "",
 			 e->node >= 0 ? cfg->can.nodes[e->node].name : "");
 		snprintf(g[0], 16, v.count ? "%.1f" : "-", v.mean / 1e3);

@@ -254,7 +254,7 @@ static void test_if_account_frames(void **state)
 	assert_int_equal(f.frames[RTSUP_CAN_RX] + f.frames[RTSUP_CAN_TX], 7);
 }
 
-/* Two CPUs receiving frames of one interface and identifier at once (rx runs on the sender's CPU). */
+/* Two CPUs receive frames of one interface and identifier at once (on the senders' CPUs). */
 #define RACE_FRAMES	2000000
 
 struct race {

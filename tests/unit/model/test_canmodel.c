@@ -298,7 +298,8 @@ static void test_entries_sorted(void **state)
 static void test_entries_small(void **state)
 {
 	struct fx *f = *state;
-	struct rtsup_can_key a = { 2, 0x100, RX, 0 }, b = { 1, EFF | 0x100, RX, 0 }, c = { 1, 0x100, TX, 0 },
+	struct rtsup_can_key a = { 2, 0x100, RX, 0 }, b = { 1, EFF | 0x100, RX, 0 },
+			     c = { 1, 0x100, TX, 0 },
 			     d = { 1, 0x100, RX, 0 };
 
 	can_entry_get(&f->m, &a, true);
@@ -367,7 +368,7 @@ static void test_iface_same_ifindex_two_namespaces(void **state)
 	assert_string_equal(buf, "vcan0@robot 0x123 tx");
 }
 
-/* an adapter unplugged (dev_ifindex 0 in the collector): down, and its errors forgotten when back */
+/* an adapter unplugged (dev_ifindex 0): down; back, its old errors forgotten */
 static void test_iface_replugged(void **state)
 {
 	struct fx *f = *state;
@@ -685,13 +686,17 @@ static void test_node_range_aggregates(void **state)
 	assert_null(rec_of(f, "vcan0 0x182 rx"));
 	assert_non_null(rec_of(f, "vcan0 0x181 tx"));
 	assert_non_null(rec_of(f, "vcan1 0x181 rx"));
-	assert_int_equal(can_entry_get(&f->m, &(struct rtsup_can_key){ 1, 0x181, RX, 0 }, false)->node,
+	assert_int_equal(can_entry_get(&f->m, &(struct rtsup_can_key){ 1, 0x181, RX, 0 },
+				       false)->node,
 			 0);
-	assert_int_equal(can_entry_get(&f->m, &(struct rtsup_can_key){ 1, 0x182, RX, 0 }, false)->node,
+	assert_int_equal(can_entry_get(&f->m, &(struct rtsup_can_key){ 1, 0x182, RX, 0 },
+				       false)->node,
 			 0);
-	assert_int_equal(can_entry_get(&f->m, &(struct rtsup_can_key){ 1, 0x181, TX, 0 }, false)->node,
+	assert_int_equal(can_entry_get(&f->m, &(struct rtsup_can_key){ 1, 0x181, TX, 0 },
+				       false)->node,
 			 -1);
-	assert_int_equal(can_entry_get(&f->m, &(struct rtsup_can_key){ 2, 0x181, RX, 0 }, false)->node,
+	assert_int_equal(can_entry_get(&f->m, &(struct rtsup_can_key){ 2, 0x181, RX, 0 },
+				       false)->node,
 			 -1);
 
 	/* only 0x182 goes on: the node still answers */
