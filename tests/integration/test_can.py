@@ -314,7 +314,10 @@ wait $CD || true
 def test_two_cpus_receiving_lose_nothing(vm):
     """vxcan delivers a frame on the CPU of its sender: two senders pinned to
     the guest's two CPUs make the kernel account the same interface and
-    identifier from both at once. Every frame counts (atomic adds)."""
+    identifier from both at once, and each CPU stashes its own offered frame
+    until its driver answers. Every frame counts. The lost increments of
+    plain adds are shown by the unit test (test_account_two_cpus_lose_nothing):
+    under emulation their window of a few instructions was not hit here."""
     n = 20000
     code, out, err, o = vm("""
 ip link add vxcan0 type vxcan peer name vxcan1
