@@ -1062,7 +1062,9 @@ static __always_inline int on_can_rx(const struct sk_buff *skb, const int btf)
 /*
  * on_can_offer - a SocketCAN frame offered to its driver: stashed on this
  * CPU until the driver answers (on_can_sent), since a busy driver is
- * offered the same frame again
+ * offered the same frame again. Both run with bottom halves off on this
+ * CPU, which on PREEMPT_RT too admits one such section per CPU at a time:
+ * no other offer comes in between.
  */
 static __always_inline int on_can_offer(const struct sk_buff *skb, const int btf)
 {
