@@ -148,6 +148,7 @@ UNIT_DEPS_test_service := user/robot/service.c user/judge/status.c
 UNIT_LIBS_test_service := -lsystemd
 UNIT_DEPS_test_promexp := user/sinks/promexp.c
 UNIT_LIBS_test_promexp := -lpthread
+UNIT_LIBS_test_can := -lpthread
 UNIT_DEPS_test_canmodel := user/model/canmodel.c user/model/model.c user/judge/status.c $(CONFIG_SRCS) user/model/syscalls.c user/config/actionspec.c
 UNIT_LIBS_test_canmodel := -lyaml
 .SECONDEXPANSION:

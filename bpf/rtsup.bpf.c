@@ -62,7 +62,7 @@ const volatile __u32 cfg_ncomm;
 const volatile __u32 cfg_record;	/* send every finished cycle (--record) */
 const volatile __u32 cfg_follow;	/* -- CMD: child processes are targets too */
 const volatile __u32 cfg_can_nif;	/* --can IFACE: how many; 0 = every CAN interface */
-const volatile __u32 cfg_can_if[8];
+const volatile __u32 cfg_netns;		/* inode of rtsup-trace's network namespace */
 const volatile __u32 cfg_canopen;	/* match CANopen SDO requests and responses */
 const volatile char cfg_comms[RTSUP_MAX_COMMS][RTSUP_COMM_LEN];
 
@@ -73,6 +73,8 @@ __s64 clock_off[16];		/* clock id -> its offset to CLOCK_MONOTONIC */
 /* The tid bitmaps and their rules: include/rtsup.h */
 __u64 tidmask[RTSUP_TIDMASK_WORDS];	/* may have an entry in threads */
 __u64 wakemask[RTSUP_TIDMASK_WORDS];	/* its next wakeup time may be read */
+/* The --can interfaces, followed by userspace when one comes back (can.h) */
+struct rtsup_can_watch can_watch[RTSUP_CAN_WATCH];
 
 struct {
 	__uint(type, BPF_MAP_TYPE_HASH);
@@ -163,11 +165,11 @@ struct {
 	__type(value, struct rtsup_can_id);
 } can_ids SEC(".maps");
 
-/* Interfaces whose ifindex has no slot in can_if_slot (below). */
+/* Interfaces of other namespaces, or whose ifindex has no slot in can_if_slot. */
 struct {
 	__uint(type, BPF_MAP_TYPE_HASH);
 	__uint(max_entries, 64);
-	__type(key, __u32);
+	__type(key, struct rtsup_can_ifkey);
 	__type(value, struct rtsup_can_if);
 } can_ifs SEC(".maps");
 
@@ -175,9 +177,31 @@ struct {
  * Per-interface counters by ifindex, for the small ifindexes CAN interfaces
  * have: a global array is a plain address, where a hash lookup per frame
  * (tx and its echo) cost as much as the rest of the accounting. Userspace
- * reads it through the skeleton's mapping of .bss.
+ * reads it through the skeleton's mapping of .bss. Slots are for the
+ * interfaces of rtsup-trace's own network namespace.
  */
 struct rtsup_can_if can_if_slot[RTSUP_CAN_IF_SLOTS];
+
+/*
+ * The task each CPU serves a softirq in, 0: none. Softirqs run in whatever
+ * task was current (at irq exit, at local_bh_enable(); on PREEMPT_RT in the
+ * task that enabled bottom halves again), and a CAN frame sent there is the
+ * kernel's own: a BCM or ISO-TP timer, can-gw forwarding a received frame.
+ */
+struct {
+	__uint(type, BPF_MAP_TYPE_PERCPU_ARRAY);
+	__uint(max_entries, 1);
+	__type(key, __u32);
+	__type(value, __u32);
+} softirq_task SEC(".maps");
+
+/* The frame each CPU has offered to a driver, until the driver answers. */
+struct {
+	__uint(type, BPF_MAP_TYPE_PERCPU_ARRAY);
+	__uint(max_entries, 1);
+	__type(key, __u32);
+	__type(value, struct rtsup_can_tx);
+} can_tx_stash SEC(".maps");
 
 struct {
 	__uint(type, BPF_MAP_TYPE_ARRAY);
@@ -890,33 +914,88 @@ static __always_inline void *lookup_or_add(void *map, const void *key, const voi
 }
 
 /* can_if_get - the counters of an interface, created on first use */
-static __always_inline struct rtsup_can_if *can_if_get(__u32 ifindex)
+static __always_inline struct rtsup_can_if *can_if_get(const struct rtsup_can_key *k)
 {
+	struct rtsup_can_ifkey ik = { .netns = k->netns, .ifindex = k->ifindex };
 	struct rtsup_can_if zif = {};
 
-	if (ifindex < RTSUP_CAN_IF_SLOTS)
-		return &can_if_slot[ifindex];
-	return lookup_or_add(&can_ifs, &ifindex, &zif);
+	if (k->netns == cfg_netns && k->ifindex < RTSUP_CAN_IF_SLOTS)
+		return &can_if_slot[k->ifindex];
+	return lookup_or_add(&can_ifs, &ik, &zif);
 }
 
-/* can_if_wanted - is this one of the --can interfaces? */
-static __always_inline int can_if_wanted(__u32 ifindex)
+/*
+ * can_if_key - the ifindex a frame of this interface is counted under: its
+ * own, or with --can IFACE the one the named interface had at start; 0 for
+ * an interface that is not watched
+ */
+static __always_inline __u32 can_if_key(__u32 netns, __u32 ifindex)
 {
 	__u32 i;
 
 	if (!cfg_can_nif)
-		return 1;
-	for (i = 0; i < 8 && i < cfg_can_nif; i++)
-		if (cfg_can_if[i] == ifindex)
-			return 1;
+		return ifindex;
+	for (i = 0; i < RTSUP_CAN_WATCH && i < cfg_can_nif; i++)
+		if (can_watch[i].ifindex == ifindex && can_watch[i].netns == netns)
+			return can_watch[i].key;
+	return 0;
+}
+
+/* can_key_of - the interface part of a CAN skb's key; 0 when not watched */
+static __always_inline int can_key_of(const struct sk_buff *skb, struct rtsup_can_key *k,
+				      const int btf)
+{
+	__u32 ifindex;
+
+	if (btf) {
+		ifindex = skb->dev->ifindex;
+		k->netns = skb->dev->nd_net.net->ns.inum;
+	} else {
+		ifindex = BPF_CORE_READ(skb, dev, ifindex);
+		k->netns = BPF_CORE_READ(skb, dev, nd_net.net, ns.inum);
+	}
+	k->ifindex = can_if_key(k->netns, ifindex);
+	return k->ifindex != 0;
+}
+
+/* can_skb_proto - the frame kind of a CAN skb; -1 for anything else (one compare) */
+static __always_inline int can_skb_proto(const struct sk_buff *skb, const int btf)
+{
+	__u16 proto = bpf_ntohs(TREAD(btf, skb, protocol));
+
+	if ((__u16)(proto - RTSUP_ETH_P_CAN) > RTSUP_ETH_P_CANXL - RTSUP_ETH_P_CAN)
+		return -1;
+	return proto - RTSUP_ETH_P_CAN;
+}
+
+/* can_frame_read - identifier, length and first bytes of a CAN skb; 0 when read */
+static __always_inline int can_frame_read(const struct sk_buff *skb, __u32 kind,
+					  struct rtsup_can_frame *f, __u32 *len, const int btf)
+{
+	unsigned char *data = TREAD(btf, skb, data);
+	struct rtsup_canxl_head xl;
+
+	if (kind == RTSUP_CAN_XL) {
+		if (bpf_probe_read_kernel(&xl, sizeof(xl), data))
+			return -1;
+		__builtin_memset(f, 0, sizeof(*f));
+		f->can_id = xl.prio & RTSUP_CAN_SFF_MASK;
+		*len = xl.len;
+		bpf_probe_read_kernel(f->data, sizeof(f->data), data + sizeof(xl));
+		return 0;
+	}
+	if (bpf_probe_read_kernel(f, sizeof(*f), data))
+		return -1;
+	*len = f->len;
 	return 0;
 }
 
 /* can_sdo_response - CANopen: time from a node's SDO request to its response */
-static __always_inline void can_sdo_response(struct rtsup_can_id *v, __u32 ifindex, __u32 id,
-					     __u64 now)
+static __always_inline void can_sdo_response(struct rtsup_can_id *v,
+					     const struct rtsup_can_key *k, __u32 id, __u64 now)
 {
-	struct rtsup_can_key rk = { .ifindex = ifindex, .can_id = id + 0x80 };
+	struct rtsup_can_key rk = { .ifindex = k->ifindex, .netns = k->netns,
+				    .can_id = id + 0x80 };
 	struct rtsup_can_id *req;
 	__u32 d;
 
@@ -928,60 +1007,68 @@ static __always_inline void can_sdo_response(struct rtsup_can_id *v, __u32 ifind
 	}
 }
 
-/* on_can - one SocketCAN frame leaving (tx) or arriving (rx) */
-static __always_inline int on_can(const struct sk_buff *skb, __u32 dir, const int btf)
+#define PF_KTHREAD	0x00200000
+
+/* on_softirq - a softirq starts (in) or ends on this CPU, in the current task */
+static __always_inline int on_softirq(int in)
 {
-	__u16 proto = bpf_ntohs(TREAD(btf, skb, protocol));
-	struct rtsup_can_key key = { .dir = dir };
-	struct rtsup_canxl_head xl;
-	struct rtsup_can_frame f;
-	struct rtsup_can_if *ifs;
-	struct rtsup_can_id *v;
-	__u32 kind, zero = 0, tid, id, len;
+	__u32 zero = 0, *t = bpf_map_lookup_elem(&softirq_task, &zero);
+
+	if (t)
+		*t = in ? (__u32)bpf_get_current_pid_tgid() : 0;
+	return 0;
+}
+
+/* in_kernel_work - a softirq or a kernel thread: not the current task's own work */
+static __always_inline int in_kernel_work(const int btf)
+{
+	__u32 zero = 0, *t = bpf_map_lookup_elem(&softirq_task, &zero);
+	struct task_struct *task = CURRENT(btf);
+
+	if (TREAD(btf, task, flags) & PF_KTHREAD)
+		return 1;
+	/* the task too: on PREEMPT_RT another may preempt a softirq's task */
+	return t && *t && *t == (__u32)bpf_get_current_pid_tgid();
+}
+
+/* can_charge - the thread a sent frame is charged to, and where in its cycle */
+static __always_inline void can_charge(struct rtsup_can_id *v, __u64 now, const int btf)
+{
 	struct rtsup_thread *t;
-	unsigned char *data;
+	__u32 tid;
+
+	/* a BCM or ISO-TP timer, can-gw: the kernel's send, whoever was current */
+	if (in_kernel_work(btf)) {
+		v->tx_tid = 0;
+		CAN_ADD(&v->tx_kernel, 1);
+		return;
+	}
+	tid = (__u32)bpf_get_current_pid_tgid();
+	v->tx_tid = tid;
+	t = lookup_thread(tid);
+	if (t && t->cs.start && !t->cs.in_delim && now >= t->cs.start) {
+		CAN_ADD(&v->tx_in_cycle, 1);
+		CAN_ADD(&v->tx_offset_sum, now - t->cs.start);
+		if (now - t->cs.start > v->tx_offset_max)
+			v->tx_offset_max = now - t->cs.start;
+	}
+}
+
+/* can_account - one frame of a watched interface, sent or received */
+static __always_inline int can_account(const struct rtsup_can_key *k, struct rtsup_can_if *ifs,
+				       const struct rtsup_can_frame *f, __u32 len, __u32 kind,
+				       const int btf)
+{
+	struct rtsup_can_key key = *k;
+	struct rtsup_can_id *v;
+	__u32 zero = 0, id;
 	__u64 now;
 
-	/* anything but CAN costs this one compare */
-	if ((__u16)(proto - RTSUP_ETH_P_CAN) > RTSUP_ETH_P_CANXL - RTSUP_ETH_P_CAN)
-		return 0;
-	key.ifindex = btf ? skb->dev->ifindex : BPF_CORE_READ(skb, dev, ifindex);
-	if (!can_if_wanted(key.ifindex))
-		return 0;
-	ifs = can_if_get(key.ifindex);
-	if (!ifs)
-		return 0;
-	/*
-	 * af_can (can_send) and echo-capable drivers (can_put_echo_skb) loop our
-	 * own sends back as rx, PACKET_BROADCAST like a frame from the bus, but
-	 * still owned by the sending socket: a frame from the bus has no skb->sk.
-	 * Tested before the frame is read: an echo costs no more than this.
-	 */
-	if (dir == RTSUP_CAN_RX && (TREAD(btf, skb, sk) ||
-	    (btf ? BPF_CORE_READ_BITFIELD(skb, pkt_type) :
-		   BPF_CORE_READ_BITFIELD_PROBED(skb, pkt_type)) == PACKET_LOOPBACK)) {
-		__sync_fetch_and_add(&ifs->loopback, 1);
-		return 0;
-	}
 	now = bpf_ktime_get_ns();
-	kind = proto - RTSUP_ETH_P_CAN;
-	data = TREAD(btf, skb, data);
-	if (kind == RTSUP_CAN_XL) {
-		if (bpf_probe_read_kernel(&xl, sizeof(xl), data))
-			return 0;
-		__builtin_memset(&f, 0, sizeof(f));
-		f.can_id = xl.prio & RTSUP_CAN_SFF_MASK;
-		len = xl.len;
-		bpf_probe_read_kernel(f.data, sizeof(f.data), data + sizeof(xl));
-	} else {
-		if (bpf_probe_read_kernel(&f, sizeof(f), data))
-			return 0;
-		len = f.len;
-	}
-	can_if_account(ifs, now, dir, f.can_id, len, kind, f.data);
-	if (f.can_id & RTSUP_CAN_ERR_FLAG)
+	can_if_account(ifs, now, key.dir, f->can_id, len, kind, f->data);
+	if (f->can_id & RTSUP_CAN_ERR_FLAG)
 		return 0;
-	id = can_key_id(f.can_id);
+	id = can_key_id(f->can_id);
 	key.can_id = id;
 	v = bpf_map_lookup_elem(&can_ids, &key);
 	if (!v)	/* a new identifier: the zero template only now */
@@ -991,21 +1078,92 @@ static __always_inline int on_can(const struct sk_buff *skb, __u32 dir, const in
 		return 0;
 	}
 	if (cfg_canopen && can_is_sdo_response(id))
-		can_sdo_response(v, key.ifindex, id, now);
-	can_id_account(v, now, f.can_id, len, f.data, cfg_ewma_w, epoch);
-	if (dir != RTSUP_CAN_TX)
-		return 0;
-	/* the sending thread and where in its cycle it sent */
-	tid = (__u32)bpf_get_current_pid_tgid();
-	v->tx_tid = tid;
-	t = lookup_thread(tid);
-	if (t && t->cs.start && !t->cs.in_delim && now >= t->cs.start) {
-		v->tx_in_cycle++;
-		v->tx_offset_sum += now - t->cs.start;
-		if (now - t->cs.start > v->tx_offset_max)
-			v->tx_offset_max = now - t->cs.start;
-	}
+		can_sdo_response(v, &key, id, now);
+	can_id_account(v, now, f->can_id, len, f->data, cfg_ewma_w, epoch);
+	if (key.dir == RTSUP_CAN_TX)
+		can_charge(v, now, btf);
 	return 0;
+}
+
+/* on_can_rx - one SocketCAN frame arriving */
+static __always_inline int on_can_rx(const struct sk_buff *skb, const int btf)
+{
+	struct rtsup_can_key key = { .dir = RTSUP_CAN_RX };
+	int kind = can_skb_proto(skb, btf);
+	struct rtsup_can_frame f;
+	struct rtsup_can_if *ifs;
+	__u32 len;
+
+	if (kind < 0 || !can_key_of(skb, &key, btf))
+		return 0;
+	ifs = can_if_get(&key);
+	if (!ifs)
+		return 0;
+	/*
+	 * af_can (can_send) and echo-capable drivers (can_put_echo_skb) loop our
+	 * own sends back as rx, PACKET_BROADCAST like a frame from the bus, but
+	 * still owned by the sending socket: a frame from the bus has no skb->sk.
+	 * Tested before the frame is read: an echo costs no more than this.
+	 */
+	if (TREAD(btf, skb, sk) ||
+	    (btf ? BPF_CORE_READ_BITFIELD(skb, pkt_type) :
+		   BPF_CORE_READ_BITFIELD_PROBED(skb, pkt_type)) == PACKET_LOOPBACK) {
+		__sync_fetch_and_add(&ifs->loopback, 1);
+		return 0;
+	}
+	if (can_frame_read(skb, kind, &f, &len, btf))
+		return 0;
+	return can_account(&key, ifs, &f, len, kind, btf);
+}
+
+/*
+ * on_can_offer - a SocketCAN frame offered to its driver: stashed on this
+ * CPU until the driver answers (on_can_sent), since a busy driver is
+ * offered the same frame again. Both run with bottom halves off on this
+ * CPU, which on PREEMPT_RT too admits one such section per CPU at a time:
+ * no other offer comes in between.
+ */
+static __always_inline int on_can_offer(const struct sk_buff *skb, const int btf)
+{
+	struct rtsup_can_key key = { .dir = RTSUP_CAN_TX };
+	int kind = can_skb_proto(skb, btf);
+	struct rtsup_can_tx *s;
+	__u32 zero = 0;
+
+	if (kind < 0 || !can_key_of(skb, &key, btf))
+		return 0;
+	s = bpf_map_lookup_elem(&can_tx_stash, &zero);
+	if (!s)
+		return 0;
+	s->skb = 0;
+	if (can_frame_read(skb, kind, &s->f, &s->len, btf))
+		return 0;
+	s->key = key;
+	s->kind = kind;
+	s->skb = (__u64)skb;
+	return 0;
+}
+
+#define ARPHRD_CAN	280
+
+/* on_can_sent - the driver's answer: the stashed frame counts if it took it */
+static __always_inline int on_can_sent(const struct sk_buff *skb, int rc,
+				       const struct net_device *dev, const int btf)
+{
+	struct rtsup_can_if *ifs;
+	struct rtsup_can_tx *s;
+	__u32 zero = 0;
+
+	/* anything but CAN costs this one compare; the skb may be freed by now */
+	if (TREAD(btf, dev, type) != ARPHRD_CAN)
+		return 0;
+	s = bpf_map_lookup_elem(&can_tx_stash, &zero);
+	if (!s || !can_tx_taken(s, (__u64)skb, rc))
+		return 0;
+	ifs = can_if_get(&s->key);
+	if (!ifs)
+		return 0;
+	return can_account(&s->key, ifs, &s->f, s->len, s->kind, btf);
 }
 
 /*
@@ -1052,10 +1210,20 @@ int BPF_PROG(signal_deliver_##sfx, int sig)					\
 #define RTSUP_CAN_PROGS(kind, sfx, btf)						\
 SEC(kind "/net_dev_start_xmit")							\
 int BPF_PROG(can_xmit_##sfx, const struct sk_buff *skb)				\
-{ return BODY(on_can(skb, RTSUP_CAN_TX, btf)); }				\
+{ return BODY(on_can_offer(skb, btf)); }					\
+SEC(kind "/net_dev_xmit")							\
+int BPF_PROG(can_xmitted_##sfx, const struct sk_buff *skb, int rc,		\
+	     const struct net_device *dev)					\
+{ return BODY(on_can_sent(skb, rc, dev, btf)); }				\
 SEC(kind "/netif_receive_skb")							\
 int BPF_PROG(can_recv_##sfx, const struct sk_buff *skb)				\
-{ return BODY(on_can(skb, RTSUP_CAN_RX, btf)); }
+{ return BODY(on_can_rx(skb, btf)); }						\
+SEC(kind "/softirq_entry")							\
+int BPF_PROG(can_softirq_in_##sfx, unsigned int vec)				\
+{ return BODY(on_softirq(1)); }							\
+SEC(kind "/softirq_exit")							\
+int BPF_PROG(can_softirq_out_##sfx, unsigned int vec)				\
+{ return BODY(on_softirq(0)); }
 
 RTSUP_PROGS("tp_btf", btf, 1)
 RTSUP_PROGS("raw_tp", raw, 0)

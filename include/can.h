@@ -62,12 +62,61 @@ enum rtsup_can_kind {
 	RTSUP_CAN_XL,
 };
 
-/* Key of the map "can_ids": one (interface, identifier, direction). */
+/*
+ * Key of the map "can_ids": one (interface, identifier, direction). An
+ * interface is (network namespace, ifindex): every namespace numbers its
+ * own from 1, so a container's vcan0 may have the host's vcan0's ifindex.
+ */
 struct rtsup_can_key {
 	__u32 ifindex;
 	__u32 can_id;	/* identifier with the EFF flag, without RTR/ERR */
 	__u32 dir;	/* enum rtsup_can_dir */
+	__u32 netns;	/* inode of the interface's network namespace, 0 in a replay */
 };
+
+/* Key of the map "can_ifs": an interface of any namespace. */
+struct rtsup_can_ifkey {
+	__u32 netns;
+	__u32 ifindex;
+};
+
+/*
+ * A --can interface: the kernel counts its frames under 'key', the ifindex
+ * it had when rtsup-trace started, so that an interface removed and added
+ * again (a USB adapter re-plugged: a new ifindex) keeps its counters.
+ * Userspace rewrites 'ifindex' when the name comes back.
+ */
+struct rtsup_can_watch {
+	__u32 netns;
+	__u32 ifindex;	/* now; 0 while the interface is gone */
+	__u32 key;	/* the ifindex its frames are counted under */
+};
+#define RTSUP_CAN_WATCH	8
+
+#define RTSUP_NETDEV_TX_OK	0x00
+
+/*
+ * A frame offered to a driver: net_dev_start_xmit stashes it on its CPU,
+ * net_dev_xmit counts it once the driver took it (NETDEV_TX_OK). A driver
+ * that answers NETDEV_TX_BUSY is offered the frame again later: counted
+ * once. The skb may be freed by net_dev_xmit: only its address is compared.
+ */
+struct rtsup_can_tx {
+	__u64 skb;		/* the offered skb, 0: none */
+	struct rtsup_can_key key;
+	struct rtsup_can_frame f;
+	__u32 len;
+	__u32 kind;		/* enum rtsup_can_kind */
+};
+
+/* can_tx_taken - net_dev_xmit of 'skb' returned 'rc': is the stashed frame sent? */
+RTSUP_INLINE int can_tx_taken(struct rtsup_can_tx *s, __u64 skb, int rc)
+{
+	if (!s->skb || s->skb != skb)
+		return 0;
+	s->skb = 0;	/* taken or not, this offer is over; a retry stashes again */
+	return rc == RTSUP_NETDEV_TX_OK;
+}
 
 /* Per (interface, identifier, direction): counts and inter-frame gaps. */
 struct rtsup_can_id {
@@ -79,8 +128,9 @@ struct rtsup_can_id {
 	__u32 epoch;		/* interval whose bank the gap stats write to */
 	__u32 len;		/* payload length of the last frame */
 	__u8 data[8];		/* first bytes of the last payload (CANopen state, EMCY code) */
-	__u32 tx_tid;		/* thread that sent the last frame (tx) */
+	__u32 tx_tid;		/* thread that sent the last frame (tx), 0: the kernel */
 	__u32 tx_in_cycle;	/* frames sent by a target thread inside a cycle */
+	__u64 tx_kernel;	/* frames the kernel sent on its own (timer, softirq, kthread) */
 	__u64 tx_offset_sum;	/* time from its cycle's start to the send, summed */
 	__u64 tx_offset_max;
 	__u64 resp_count;	/* CANopen SDO: responses matched to a request */
@@ -141,6 +191,15 @@ RTSUP_INLINE __u32 can_key_id(__u32 can_id)
 	return can_id & RTSUP_CAN_SFF_MASK;
 }
 
+/*
+ * CAN_ADD - a counter that frames on other CPUs bump at the same time (rx
+ * on every CPU that a sender ran on, tx and rx of one interface): one
+ * atomic add, no lost increment. The gap statistics and the last payload
+ * of an identifier are plain stores: two frames of one identifier, in one
+ * direction, accounted in the same ~100 ns on two CPUs may lose one gap.
+ */
+#define CAN_ADD(p, n) __sync_fetch_and_add(p, n)
+
 /* can_id_account - one frame of a key at time 'now' */
 RTSUP_INLINE void can_id_account(struct rtsup_can_id *v, __u64 now, __u32 can_id,
 				 __u32 len, const __u8 *data, __u32 ewma_w, __u32 epoch)
@@ -155,14 +214,14 @@ RTSUP_INLINE void can_id_account(struct rtsup_can_id *v, __u64 now, __u32 can_id
 		metric_add(&v->gap, now - v->last, ewma_w, epoch);
 	if (!v->frames)
 		v->first = now;
-	v->frames++;
+	CAN_ADD(&v->frames, 1);
 	v->last = now;
 	if (can_id & RTSUP_CAN_RTR_FLAG) {
 		/* a remote request carries no data: keep the last payload */
-		v->rtr++;
+		CAN_ADD(&v->rtr, 1);
 		return;
 	}
-	v->bytes += len;
+	CAN_ADD(&v->bytes, len);
 	v->len = len;
 	for (i = 0; i < 8; i++)
 		v->data[i] = i < len ? data[i] : 0;
@@ -178,26 +237,26 @@ RTSUP_INLINE void can_if_account(struct rtsup_can_if *f, __u64 now, __u32 dir, _
 		return;
 	if (can_id & RTSUP_CAN_ERR_FLAG) {
 		/* a report of the controller, not a frame on the bus */
-		f->err_frames++;
+		CAN_ADD(&f->err_frames, 1);
 		f->last_err = now;
 		f->err_id = can_id & RTSUP_CAN_EFF_MASK;
 		for (i = 0; i < RTSUP_CAN_ERR_CLASSES; i++)
 			if (can_id & (1U << i))
-				f->err_class[i]++;
+				CAN_ADD(&f->err_class[i], 1);
 		for (i = 0; i < 8; i++)
 			f->err_data[i] = i < len ? data[i] : 0;
 		return;
 	}
-	f->frames[dir]++;
+	CAN_ADD(&f->frames[dir], 1);
 	if (!(can_id & RTSUP_CAN_RTR_FLAG))
-		f->bytes[dir] += len;
-	f->bits[dir] += can_frame_bits(can_id, len, kind);
+		CAN_ADD(&f->bytes[dir], len);
+	CAN_ADD(&f->bits[dir], can_frame_bits(can_id, len, kind));
 	if (can_id & RTSUP_CAN_RTR_FLAG)
-		f->rtr++;
+		CAN_ADD(&f->rtr, 1);
 	if (kind == RTSUP_CAN_FD)
-		f->fd++;
+		CAN_ADD(&f->fd, 1);
 	else if (kind == RTSUP_CAN_XL)
-		f->xl++;
+		CAN_ADD(&f->xl, 1);
 }
 
 /* can_is_sdo_response - CANopen: 0x581..0x5FF, an SDO server's answer */

@@ -41,7 +41,8 @@ struct options {
 	bool can;		/* --can: supervise CAN interfaces */
 	int ncan;		/* --can IFACE given: how many; 0 = every CAN interface */
 	const char *can_ifs[8];
-	__u32 can_ifindex[8];
+	__u32 can_ifindex[8];	/* at start: the kernel counts them under these */
+	__u32 can_netns;	/* inode of our network namespace */
 	__u64 can_bitrate;	/* --bitrate: overrides what the interface says */
 	__u32 can_max_ids;	/* --can-max-ids: capacity of the identifier map */
 	bool canopen;		/* from the configuration: CANopen matching in the kernel */

@@ -1,10 +1,16 @@
 // SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
 /* cancollect.c - read the kernel's CAN maps into the CAN model */
+#include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <net/if.h>
+#include <sched.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <bpf/bpf.h>
 #include <bpf/libbpf.h>
 #include <netlink/route/link.h>
@@ -15,8 +21,14 @@
 
 int can_resolve(struct options *o)
 {
+	struct stat st;
 	int i;
 
+	if (stat("/proc/self/ns/net", &st)) {
+		fprintf(stderr, "rtsup-trace: /proc/self/ns/net: %s\n", strerror(errno));
+		return -1;
+	}
+	o->can_netns = st.st_ino;
 	for (i = 0; i < o->ncan; i++) {
 		o->can_ifindex[i] = if_nametoindex(o->can_ifs[i]);
 		if (!o->can_ifindex[i]) {
@@ -48,14 +60,19 @@ __u64 can_bitrate(__u32 ifindex)
 /* can_link - netlink's word on an interface: up, and the controller's state (-1: none) */
 static void can_link(struct can_iface *f)
 {
-	struct nl_sock *sk = nl_socket_alloc();
+	struct nl_sock *sk;
 	struct rtnl_link *link = NULL;
 	uint32_t state;
 
+	if (!f->dev_ifindex) {	/* removed (an adapter unplugged): down until it is back */
+		can_iface_link(f, false, -1);
+		return;
+	}
+	sk = nl_socket_alloc();
 	if (!sk)
 		return;
 	if (!nl_connect(sk, NETLINK_ROUTE) &&
-	    !rtnl_link_get_kernel(sk, f->ifindex, NULL, &link))
+	    !rtnl_link_get_kernel(sk, f->dev_ifindex, NULL, &link))
 		can_iface_link(f, rtnl_link_get_flags(link) & IFF_UP,
 			       rtnl_link_is_can(link) && !rtnl_link_can_state(link, &state) ?
 			       (int)state : -1);
@@ -63,27 +80,112 @@ static void can_link(struct can_iface *f)
 	nl_socket_free(sk);
 }
 
-/* take_if - one interface's counters; its name and bitrate when first seen */
-static void take_if(struct can_model *m, __u32 ifindex, const struct rtsup_can_if *v,
-		    const struct options *o, const struct config *cfg)
+/*
+ * foreign_name - "IFNAME@NS" for an interface of another network namespace
+ * that `ip netns` named (/run/netns), else "ifN@net:INODE". The name is
+ * read in a child that enters the namespace: this process never leaves its
+ * own, where netlink and --can names mean what the user sees.
+ */
+static void foreign_name(__u32 netns, __u32 ifindex, char *buf, size_t len)
 {
-	struct can_iface *f = can_iface_get(m, ifindex, true);
+	char name[IF_NAMESIZE] = "", path[300];
+	struct dirent *de;
+	struct stat st;
+	int p[2], fd, status;
+	DIR *d = opendir("/run/netns");
+	pid_t pid;
+
+	snprintf(buf, len, "if%u@net:%u", ifindex, netns);
+	while (d && (de = readdir(d))) {
+		snprintf(path, sizeof(path), "/run/netns/%s", de->d_name);
+		if (de->d_name[0] == '.' || stat(path, &st) || st.st_ino != netns)
+			continue;
+		fd = open(path, O_RDONLY | O_CLOEXEC);
+		if (fd < 0 || pipe(p)) {
+			if (fd >= 0)
+				close(fd);
+			break;
+		}
+		pid = fork();
+		if (pid == 0) {
+			close(p[0]);
+			if (!setns(fd, CLONE_NEWNET) && if_indextoname(ifindex, name) &&
+			    write(p[1], name, strlen(name)) < 0)
+				_exit(1);
+			_exit(0);
+		}
+		close(fd);
+		close(p[1]);
+		if (pid > 0 && read(p[0], name, sizeof(name) - 1) > 0)
+			snprintf(buf, len, "%.15s@%.23s", name, de->d_name);
+		close(p[0]);
+		if (pid > 0)
+			waitpid(pid, &status, 0);
+		break;
+	}
+	if (d)
+		closedir(d);
+}
+
+/* watched - which --can interface the kernel counts under 'key', -1: none */
+static int watched(const struct rtsup_bpf *skel, const struct options *o, __u32 key)
+{
+	int i;
+
+	for (i = 0; i < o->ncan; i++)
+		if (skel->bss->can_watch[i].key == key)
+			return i;
+	return -1;
+}
+
+/* take_if - one interface's counters; its name and bitrate when first seen or back */
+static void take_if(struct can_model *m, const struct rtsup_bpf *skel, __u32 netns,
+		    __u32 ifindex, const struct rtsup_can_if *v, const struct options *o,
+		    const struct config *cfg)
+{
+	struct can_iface *f = can_iface_get(m, netns, ifindex, true);
+	bool own = netns == o->can_netns, first;
+	int w = own ? watched(skel, o, ifindex) : -1;
+	/* the ifindex it has now: a --can interface re-plugged has a new one, 0: gone */
+	__u32 dev = w >= 0 ? skel->bss->can_watch[w].ifindex : own ? ifindex : 0;
 
 	if (!f)
 		return;
-	if (!f->cur.frames[0] && !f->cur.frames[1] && !f->have_prev) {
+	first = !f->cur.frames[0] && !f->cur.frames[1] && !f->have_prev;
+	if (first && w >= 0) {
+		snprintf(f->name, sizeof(f->name), "%s", o->can_ifs[w]);
+	} else if (first && own) {
 		char name[IF_NAMESIZE];
 
-		if (if_indextoname(ifindex, name))
+		if (if_indextoname(dev, name))
 			snprintf(f->name, sizeof(f->name), "%s", name);
-		f->bitrate = can_bitrate(ifindex);
+	} else if (first) {
+		foreign_name(netns, ifindex, f->name, sizeof(f->name));
 	}
+	/* an adapter plugged back may run another bitrate */
+	if (own && dev && (first || dev != f->dev_ifindex))
+		f->bitrate = can_bitrate(dev);
 	if (o->can_bitrate)
 		f->bitrate = o->can_bitrate;
 	else if (!f->bitrate)
 		f->bitrate = cfg->can.bitrate;
+	f->dev_ifindex = dev;
 	f->cur = *v;
-	can_link(f);
+	if (own)	/* netlink here speaks of our namespace's interfaces only */
+		can_link(f);
+}
+
+/* can_follow - --can interfaces that were removed, or came back with a new ifindex */
+static void can_follow(struct rtsup_bpf *skel, const struct options *o)
+{
+	int i;
+
+	for (i = 0; i < o->ncan; i++) {
+		__u32 now = if_nametoindex(o->can_ifs[i]);
+
+		if (now != skel->bss->can_watch[i].ifindex)
+			skel->bss->can_watch[i].ifindex = now;
+	}
 }
 
 /* can_if_seen - has the kernel counted anything on this slot? */
@@ -97,20 +199,21 @@ static void read_ifs(struct can_model *m, struct rtsup_bpf *skel, const struct o
 		     const struct config *cfg)
 {
 	int fd = bpf_map__fd(skel->maps.can_ifs);
-	__u32 key, next, *prev = NULL;
+	struct rtsup_can_ifkey key, next, *prev = NULL;
 	struct rtsup_can_if v;
+	__u32 i;
 
-	for (key = 0; key < RTSUP_CAN_IF_SLOTS; key++) {
+	for (i = 0; i < RTSUP_CAN_IF_SLOTS; i++) {
 		/* the kernel writes while we copy: each counter is one aligned word */
-		v = skel->bss->can_if_slot[key];
+		v = skel->bss->can_if_slot[i];
 		if (can_if_seen(&v))
-			take_if(m, key, &v, o, cfg);
+			take_if(m, skel, o->can_netns, i, &v, o, cfg);
 	}
 	while (!bpf_map_get_next_key(fd, prev, &next)) {
 		key = next;
 		prev = &key;
 		if (!bpf_map_lookup_elem(fd, &key, &v))
-			take_if(m, key, &v, o, cfg);
+			take_if(m, skel, key.netns, key.ifindex, &v, o, cfg);
 	}
 }
 
@@ -124,6 +227,7 @@ void can_collect(struct can_model *m, struct rtsup_bpf *skel, const struct optio
 
 	if (!v)
 		return;
+	can_follow(skel, o);
 	/* the map is written by the kernel only and never reset from here, so
 	 * every frame is counted once whatever the interval */
 	read_ifs(m, skel, o, cfg);

@@ -151,8 +151,10 @@ int loader_start(struct loader *l, const struct options *o)
 	s->rodata->cfg_record = o->record_path || o->perfetto_path;
 	s->rodata->cfg_follow = o->cmd != NULL;
 	s->rodata->cfg_can_nif = o->ncan;
+	s->rodata->cfg_netns = o->can_netns;
 	for (i = 0; i < o->ncan; i++)
-		((__u32 *)s->rodata->cfg_can_if)[i] = o->can_ifindex[i];
+		s->bss->can_watch[i] = (struct rtsup_can_watch){ .netns = o->can_netns,
+			.ifindex = o->can_ifindex[i], .key = o->can_ifindex[i] };
 	s->rodata->cfg_canopen = o->canopen;
 	bpf_map__set_max_entries(s->maps.can_ids, o->can_max_ids);
 	for (i = 0; i < o->targets.ncomms; i++)

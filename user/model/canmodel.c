@@ -14,6 +14,8 @@
 /* key_cmp - order of the entries */
 static int key_cmp(const struct rtsup_can_key *a, const struct rtsup_can_key *b)
 {
+	if (a->netns != b->netns)
+		return a->netns < b->netns ? -1 : 1;
 	if (a->ifindex != b->ifindex)
 		return a->ifindex < b->ifindex ? -1 : 1;
 	if (a->can_id != b->can_id)
@@ -58,16 +60,17 @@ struct can_entry *can_entry_get(struct can_model *m, const struct rtsup_can_key 
 	return &m->e[lo];
 }
 
-struct can_iface *can_iface_get(struct can_model *m, __u32 ifindex, bool create)
+struct can_iface *can_iface_get(struct can_model *m, __u32 netns, __u32 ifindex, bool create)
 {
 	int i;
 
 	for (i = 0; i < m->nifs; i++)
-		if (m->ifs[i].ifindex == ifindex)
+		if (m->ifs[i].ifindex == ifindex && m->ifs[i].netns == netns)
 			return &m->ifs[i];
 	if (!create || m->nifs == CANMODEL_MAX_IFS)
 		return NULL;
 	memset(&m->ifs[m->nifs], 0, sizeof(m->ifs[0]));
+	m->ifs[m->nifs].netns = netns;
 	m->ifs[m->nifs].ifindex = ifindex;
 	m->ifs[m->nifs].load = -1;
 	m->ifs[m->nifs].ctrl_state = -1;
@@ -120,20 +123,17 @@ enum can_ctrl can_iface_ctrl(const struct can_iface *f)
 	return CAN_CTRL_OK;
 }
 
-const char *can_iface_name(const struct can_model *m, __u32 ifindex)
+const char *can_iface_name(const struct can_model *m, __u32 netns, __u32 ifindex)
 {
-	int i;
+	const struct can_iface *f = can_iface_get((struct can_model *)m, netns, ifindex, false);
 
-	for (i = 0; i < m->nifs; i++)
-		if (m->ifs[i].ifindex == ifindex)
-			return m->ifs[i].name;
-	return "?";
+	return f ? f->name : "?";
 }
 
 void can_component(const struct can_model *m, const struct can_entry *e, char *buf,
 		   size_t len)
 {
-	snprintf(buf, len, "%s 0x%x %s", can_iface_name(m, e->key.ifindex),
+	snprintf(buf, len, "%s 0x%x %s", can_iface_name(m, e->key.netns, e->key.ifindex),
 		 e->key.can_id & RTSUP_CAN_EFF_MASK, e->key.dir == RTSUP_CAN_TX ? "tx" : "rx");
 }
 
@@ -383,7 +383,7 @@ static void check_iface(struct can_iface *f, const struct can_config *cc, double
 static void canopen_update(struct can_model *m, const struct can_entry *e)
 {
 	__u32 id = e->key.can_id, fn = id & 0x780, n = id & 0x7f;
-	struct can_iface *f = can_iface_get(m, e->key.ifindex, false);
+	struct can_iface *f = can_iface_get(m, e->key.netns, e->key.ifindex, false);
 	struct canopen_node *co;
 
 	if ((id & RTSUP_CAN_EFF_FLAG) || !n || !f)
@@ -516,8 +516,8 @@ void can_model_judge(struct can_model *m, const struct config *cfg, __u64 now,
 		struct can_entry *e = &m->e[i];
 		const struct can_thresholds *th;
 
-		e->node = config_can_node(cfg, can_iface_name(m, e->key.ifindex), e->key.can_id,
-					  e->key.dir);
+		e->node = config_can_node(cfg, can_iface_name(m, e->key.netns, e->key.ifindex),
+					  e->key.can_id, e->key.dir);
 		th = e->node >= 0 ? &cc->nodes[e->node].th : &cc->defaults;
 		gap_window(m, e, &gap);
 		learn(e, th, cc->canopen, &gap, now);

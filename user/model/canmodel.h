@@ -42,8 +42,10 @@ struct can_entry {
 };
 
 struct can_iface {
-	__u32 ifindex;
-	char name[16];
+	__u32 netns;			/* network namespace inode (0: a replay) */
+	__u32 ifindex;			/* as the kernel counts it (can.h rtsup_can_watch) */
+	char name[40];			/* "vcan0", "vcan0@ns" in another namespace */
+	__u32 dev_ifindex;		/* its ifindex now; 0: removed (--can IFACE follows it) */
 	__u64 bitrate;			/* bit/s, 0 = unknown */
 	struct rtsup_can_if cur;
 	struct rtsup_can_if prev;
@@ -136,8 +138,8 @@ enum can_ctrl {
  */
 enum can_ctrl can_iface_ctrl(const struct can_iface *f);
 
-/* can_iface_get - the interface, created when 'create' */
-struct can_iface *can_iface_get(struct can_model *m, __u32 ifindex, bool create);
+/* can_iface_get - the interface (netns, ifindex), created when 'create' */
+struct can_iface *can_iface_get(struct can_model *m, __u32 netns, __u32 ifindex, bool create);
 /* can_model_next - end of an interval: current snapshots become previous */
 void can_model_next(struct can_model *m);
 void can_model_free(struct can_model *m);
@@ -152,8 +154,8 @@ typedef void (*can_judge_fn)(void *ctx, const char *component, const struct stat
 void can_model_judge(struct can_model *m, const struct config *cfg, __u64 now,
 		     double interval_s, can_judge_fn judge, void *ctx);
 
-/* can_iface_name - name of an interface index in the model, "?" if unknown */
-const char *can_iface_name(const struct can_model *m, __u32 ifindex);
+/* can_iface_name - name of an interface of the model, "?" if unknown */
+const char *can_iface_name(const struct can_model *m, __u32 netns, __u32 ifindex);
 /* can_component - a display name: "can0 0x123 rx", or a node's name */
 void can_component(const struct can_model *m, const struct can_entry *e, char *buf,
 		   size_t len);

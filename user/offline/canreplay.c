@@ -52,7 +52,7 @@ static __u32 iface_index(struct can_replay *r, const char *name)
 	for (i = 0; i < r->m.nifs; i++)
 		if (!strcmp(r->m.ifs[i].name, name))
 			return r->m.ifs[i].ifindex;
-	f = can_iface_get(&r->m, r->m.nifs + 1, true);
+	f = can_iface_get(&r->m, 0, r->m.nifs + 1, true);
 	if (!f)
 		return 0;
 	snprintf(f->name, sizeof(f->name), "%s", name);
@@ -118,7 +118,7 @@ static int frame(struct can_replay *r, const struct candump_frame *in)
 	}
 	r->now = f->ts_ns;
 	key.ifindex = iface_index(r, f->iface);
-	ifs = can_iface_get(&r->m, key.ifindex, false);
+	ifs = can_iface_get(&r->m, 0, key.ifindex, false);
 	if (!ifs)
 		return 0;
 	can_if_account(&ifs->cur, f->ts_ns, key.dir, f->can_id, f->len, f->kind, f->data);

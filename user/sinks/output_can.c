@@ -74,7 +74,8 @@ void can_table(const struct can_model *m, const struct config *cfg, __u64 now,
 
 		entry_gap(m, e, total, &v);
 		id_text(e->key.can_id, id, sizeof(id));
-		snprintf(name, sizeof(name), "%s %s%s%.20s", can_iface_name(m, e->key.ifindex), id,
+		snprintf(name, sizeof(name), "%s %s%s%.20s",
+			 can_iface_name(m, e->key.netns, e->key.ifindex), id,
 			 e->node >= 0 ? " " : "",
 			 e->node >= 0 ? cfg->can.nodes[e->node].name : "");
 		snprintf(g[0], 16, v.count ? "%.1f" : "-", v.mean / 1e3);
@@ -194,6 +195,7 @@ json_t *can_json(const struct can_model *m, const struct config *cfg, __u64 now,
 			      "status", json_st(&f->st, f->worst));
 		json_object_set_new(x, "bus_load", f->load >= 0 && !total ? json_real(f->load) :
 				    json_null());
+		json_object_set_new(x, "netns", json_integer(f->netns));
 		json_array_append_new(ifs, x);
 	}
 	for (i = 0; i < m->n; i++) {
@@ -203,7 +205,7 @@ json_t *can_json(const struct can_model *m, const struct config *cfg, __u64 now,
 		entry_gap(m, e, total, &v);
 		id_text(e->key.can_id, id, sizeof(id));
 		x = json_pack("{s:s,s:s,s:I,s:b,s:s,s:I,s:I,s:f,s:o,s:f,s:I}", "interface",
-			      can_iface_name(m, e->key.ifindex), "id", id,
+			      can_iface_name(m, e->key.netns, e->key.ifindex), "id", id,
 			      "can_id", (json_int_t)(e->key.can_id & RTSUP_CAN_EFF_MASK),
 			      "extended", !!(e->key.can_id & RTSUP_CAN_EFF_FLAG),
 			      "dir", e->key.dir == RTSUP_CAN_TX ? "tx" : "rx",
@@ -219,7 +221,8 @@ json_t *can_json(const struct can_model *m, const struct config *cfg, __u64 now,
 			json_object_set_new(x, "status", json_st(&e->st, e->worst));
 		if (e->key.dir == RTSUP_CAN_TX)
 			json_object_set_new(x, "sender", json_pack(
-				"{s:i,s:I,s:f,s:I}", "tid", e->cur.tx_tid,
+				"{s:i,s:I,s:I,s:f,s:I}", "tid", e->cur.tx_tid,
+				"kernel", (json_int_t)e->cur.tx_kernel,
 				"in_cycle", (json_int_t)e->cur.tx_in_cycle,
 				"cycle_offset_mean_ns", e->cur.tx_in_cycle ?
 				(double)e->cur.tx_offset_sum / e->cur.tx_in_cycle : 0.0,

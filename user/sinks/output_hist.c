@@ -198,7 +198,8 @@ void hist_can_table(const struct can_model *m, const struct options *o)
 		if (!e->cur.gap.count)
 			continue;
 		snprintf(hs[n].title, sizeof(hs[n].title), "%s 0x%x%s %s gap",
-			 can_iface_name(m, e->key.ifindex), e->key.can_id & RTSUP_CAN_EFF_MASK,
+			 can_iface_name(m, e->key.netns, e->key.ifindex),
+			 e->key.can_id & RTSUP_CAN_EFF_MASK,
 			 e->key.can_id & RTSUP_CAN_EFF_FLAG ? "x" : "",
 			 e->key.dir == RTSUP_CAN_TX ? "tx" : "rx");
 		can_gap_life(e, bufs[n]);

@@ -10,6 +10,7 @@
 #include <stdint.h>
 #include <string.h>
 #include <cmocka.h>
+#include <pthread.h>
 
 #include "can.h"
 
@@ -253,6 +254,88 @@ static void test_if_account_frames(void **state)
 	assert_int_equal(f.frames[RTSUP_CAN_RX] + f.frames[RTSUP_CAN_TX], 7);
 }
 
+/* Two CPUs receive frames of one interface and identifier at once (on the senders' CPUs). */
+#define RACE_FRAMES	2000000
+
+struct race {
+	struct rtsup_can_if *f;
+	struct rtsup_can_id *v;
+	pthread_barrier_t *go;
+};
+
+static void *race_rx(void *arg)
+{
+	static const __u8 d[8] = { 0 };
+	struct race *r = arg;
+	__u32 i;
+
+	pthread_barrier_wait(r->go);
+	for (i = 0; i < RACE_FRAMES; i++) {
+		/* every 4th an RTR: the rtr counters race too */
+		__u32 id = (i & 3) ? 0x181 : RTSUP_CAN_RTR_FLAG | 0x181;
+
+		can_if_account(r->f, i, RTSUP_CAN_RX, id, 2, RTSUP_CAN_CC, d);
+		can_id_account(r->v, i, id, 2, d, EWMA_W, 0);
+	}
+	return NULL;
+}
+
+static void test_account_two_cpus_lose_nothing(void **state)
+{
+	static struct rtsup_can_if f;
+	static struct rtsup_can_id v;
+	pthread_barrier_t go;
+	struct race r = { &f, &v, &go };
+	pthread_t t[2];
+	int i;
+
+	memset(&f, 0, sizeof(f));
+	id_init(&v);
+	pthread_barrier_init(&go, NULL, 2);
+	for (i = 0; i < 2; i++)
+		assert_int_equal(pthread_create(&t[i], NULL, race_rx, &r), 0);
+	for (i = 0; i < 2; i++)
+		pthread_join(t[i], NULL);
+	pthread_barrier_destroy(&go);
+	assert_int_equal(f.frames[RTSUP_CAN_RX], 2 * RACE_FRAMES);
+	assert_int_equal(f.rtr, 2 * RACE_FRAMES / 4);
+	assert_int_equal(f.bytes[RTSUP_CAN_RX], 2 * 2 * RACE_FRAMES * 3 / 4);
+	assert_int_equal(f.bits[RTSUP_CAN_RX], 2 * (RACE_FRAMES * 3 / 4 * (55 + 20) +
+						    RACE_FRAMES / 4 * 55));
+	assert_int_equal(v.frames, 2 * RACE_FRAMES);
+	assert_int_equal(v.rtr, 2 * RACE_FRAMES / 4);
+	assert_int_equal(v.bytes, 2 * 2 * RACE_FRAMES * 3 / 4);
+}
+
+/* net_dev_start_xmit stashes, net_dev_xmit counts what the driver took */
+static void test_tx_taken_once_after_busy(void **state)
+{
+	struct rtsup_can_tx s;
+	int sent = 0;
+
+	memset(&s, 0, sizeof(s));
+	/* nothing offered: a non-CAN or unwatched skb's answer */
+	assert_false(can_tx_taken(&s, 0x1000, RTSUP_NETDEV_TX_OK));
+	/* offered, NETDEV_TX_BUSY, requeued and offered again, taken */
+	s.skb = 0x1000;
+	sent += can_tx_taken(&s, 0x1000, 0x10);
+	assert_int_equal(s.skb, 0);
+	s.skb = 0x1000;
+	sent += can_tx_taken(&s, 0x1000, 0x10);
+	s.skb = 0x1000;
+	sent += can_tx_taken(&s, 0x1000, RTSUP_NETDEV_TX_OK);
+	assert_int_equal(sent, 1);
+	/* an answer for another skb does not take the stashed one */
+	s.skb = 0x2000;
+	assert_false(can_tx_taken(&s, 0x3000, RTSUP_NETDEV_TX_OK));
+	assert_int_equal(s.skb, 0x2000);
+	assert_true(can_tx_taken(&s, 0x2000, RTSUP_NETDEV_TX_OK));
+	/* a driver that drops it (NET_XMIT_DROP) did not send it */
+	s.skb = 0x4000;
+	assert_false(can_tx_taken(&s, 0x4000, 1));
+	assert_false(can_tx_taken(&s, 0x4000, RTSUP_NETDEV_TX_OK));
+}
+
 static void test_if_account_error_frame(void **state)
 {
 	static const __u8 d[8] = { 0, RTSUP_CAN_ERR_CRTL_RX_PASSIVE, 0, 0, 0, 0, 0x80, 0x7f };
@@ -362,6 +445,8 @@ int main(void)
 		cmocka_unit_test(test_id_account_rtr_and_data),
 		cmocka_unit_test(test_if_account_frames),
 		cmocka_unit_test(test_if_account_error_frame),
+		cmocka_unit_test(test_account_two_cpus_lose_nothing),
+		cmocka_unit_test(test_tx_taken_once_after_busy),
 		cmocka_unit_test(test_sdo_is_response),
 		cmocka_unit_test(test_sdo_match),
 	};

@@ -112,7 +112,7 @@ static void load_cfg(struct fx *f, const char *yaml)
 /* iface - an interface of the model with its name and bitrate */
 static struct can_iface *iface(struct fx *f, __u32 ifindex, const char *name, __u64 bitrate)
 {
-	struct can_iface *i = can_iface_get(&f->m, ifindex, true);
+	struct can_iface *i = can_iface_get(&f->m, 0, ifindex, true);
 
 	assert_non_null(i);
 	snprintf(i->name, sizeof(i->name), "%s", name);
@@ -126,7 +126,7 @@ static void frame(struct fx *f, __u32 ifindex, __u32 dir, __u32 can_id, __u64 t,
 {
 	static const __u8 zero[8];
 	struct rtsup_can_key key = { .ifindex = ifindex, .dir = dir };
-	struct can_iface *i = can_iface_get(&f->m, ifindex, true);
+	struct can_iface *i = can_iface_get(&f->m, 0, ifindex, true);
 	struct can_entry *e;
 
 	if (!data)
@@ -225,6 +225,8 @@ static void expect(const struct fx *f, const char *comp, enum level l, const cha
 
 static int key_order(const struct rtsup_can_key *a, const struct rtsup_can_key *b)
 {
+	if (a->netns != b->netns)
+		return a->netns < b->netns ? -1 : 1;
 	if (a->ifindex != b->ifindex)
 		return a->ifindex < b->ifindex ? -1 : 1;
 	if (a->can_id != b->can_id)
@@ -245,6 +247,8 @@ static void test_entries_sorted(void **state)
 	for (i = 0; i < 300; i++) {
 		seed = seed * 1103515245 + 12345;
 		keys[i].ifindex = 1 + (seed >> 16) % 3;
+		/* two namespaces number their interfaces alike: never one key */
+		keys[i].netns = 4026531840U + (seed >> 24) % 2;
 		keys[i].can_id = (seed >> 8) % 5 ? (seed >> 4) % 0x800 : EFF | (seed >> 3);
 		keys[i].dir = (seed >> 20) & 1;
 		for (j = 0; j < i && key_order(&keys[j], &keys[i]); j++)
@@ -294,8 +298,9 @@ static void test_entries_sorted(void **state)
 static void test_entries_small(void **state)
 {
 	struct fx *f = *state;
-	struct rtsup_can_key a = { 2, 0x100, RX }, b = { 1, EFF | 0x100, RX }, c = { 1, 0x100, TX },
-			     d = { 1, 0x100, RX };
+	struct rtsup_can_key a = { 2, 0x100, RX, 0 }, b = { 1, EFF | 0x100, RX, 0 },
+			     c = { 1, 0x100, TX, 0 },
+			     d = { 1, 0x100, RX, 0 };
 
 	can_entry_get(&f->m, &a, true);
 	can_entry_get(&f->m, &b, true);
@@ -315,23 +320,68 @@ static void test_iface_get(void **state)
 	struct can_iface *i;
 	__u32 n;
 
-	assert_null(can_iface_get(&f->m, 4, false));
-	assert_string_equal(can_iface_name(&f->m, 4), "?");
-	i = can_iface_get(&f->m, 4, true);
+	assert_null(can_iface_get(&f->m, 0, 4, false));
+	assert_string_equal(can_iface_name(&f->m, 0, 4), "?");
+	i = can_iface_get(&f->m, 0, 4, true);
 	assert_non_null(i);
 	assert_int_equal(i->ifindex, 4);
 	assert_string_equal(i->name, "if4");
 	assert_true(i->load < 0);
 	assert_int_equal(i->bitrate, 0);
-	assert_ptr_equal(can_iface_get(&f->m, 4, true), i);
+	assert_ptr_equal(can_iface_get(&f->m, 0, 4, true), i);
 	assert_int_equal(f->m.nifs, 1);
 	snprintf(i->name, sizeof(i->name), "vcan0");
-	assert_string_equal(can_iface_name(&f->m, 4), "vcan0");
+	assert_string_equal(can_iface_name(&f->m, 0, 4), "vcan0");
 	/* at most CANMODEL_MAX_IFS interfaces */
 	for (n = 100; f->m.nifs < CANMODEL_MAX_IFS; n++)
-		assert_non_null(can_iface_get(&f->m, n, true));
-	assert_null(can_iface_get(&f->m, 999, true));
+		assert_non_null(can_iface_get(&f->m, 0, n, true));
+	assert_null(can_iface_get(&f->m, 0, 999, true));
 	assert_int_equal(f->m.nifs, CANMODEL_MAX_IFS);
+}
+
+/* two network namespaces number their interfaces alike: vcan0 is ifindex 2 in each */
+static void test_iface_same_ifindex_two_namespaces(void **state)
+{
+	struct rtsup_can_key ka = { 2, 0x123, TX, 4026531840U }, kb = { 2, 0x123, TX, 4026532300U };
+	struct fx *f = *state;
+	struct can_iface *a = can_iface_get(&f->m, 4026531840U, 2, true);
+	struct can_iface *b = can_iface_get(&f->m, 4026532300U, 2, true);
+	struct can_entry *ea, *eb;
+	char buf[96];
+
+	assert_non_null(a);
+	assert_non_null(b);
+	assert_ptr_not_equal(a, b);
+	snprintf(a->name, sizeof(a->name), "vcan0");
+	snprintf(b->name, sizeof(b->name), "vcan0@robot");
+	assert_string_equal(can_iface_name(&f->m, 4026531840U, 2), "vcan0");
+	assert_string_equal(can_iface_name(&f->m, 4026532300U, 2), "vcan0@robot");
+	assert_string_equal(can_iface_name(&f->m, 0, 2), "?");
+	ea = can_entry_get(&f->m, &ka, true);
+	ea->cur.frames = 5;
+	eb = can_entry_get(&f->m, &kb, true);
+	assert_ptr_not_equal(can_entry_get(&f->m, &ka, false), eb);
+	assert_int_equal(f->m.n, 2);
+	assert_int_equal(can_entry_get(&f->m, &ka, false)->cur.frames, 5);
+	assert_int_equal(can_entry_get(&f->m, &kb, false)->cur.frames, 0);
+	can_component(&f->m, can_entry_get(&f->m, &kb, false), buf, sizeof(buf));
+	assert_string_equal(buf, "vcan0@robot 0x123 tx");
+}
+
+/* an adapter unplugged (dev_ifindex 0): down; back, its old errors forgotten */
+static void test_iface_replugged(void **state)
+{
+	struct fx *f = *state;
+	struct can_iface *i = can_iface_get(&f->m, 0, 3, true);
+
+	can_iface_link(i, true, -1);
+	i->cur.err_frames = 1;
+	i->cur.err_id = RTSUP_CAN_ERR_BUSOFF;
+	assert_int_equal(can_iface_ctrl(i), CAN_CTRL_BUSOFF);
+	can_iface_link(i, false, -1);	/* removed */
+	assert_int_equal(can_iface_ctrl(i), CAN_CTRL_DOWN);
+	can_iface_link(i, true, -1);	/* back, under the same counters */
+	assert_int_equal(can_iface_ctrl(i), CAN_CTRL_OK);
 }
 
 /*
@@ -341,7 +391,7 @@ static void test_iface_get(void **state)
 static void test_gap_life_wrap(void **state)
 {
 	struct fx *f = *state;
-	struct rtsup_can_key k = { 3, 0x123, RX };
+	struct rtsup_can_key k = { 3, 0x123, RX, 0 };
 	struct can_entry *e = can_entry_get(&f->m, &k, true);
 	__u32 b = hist_bucket(10000000);	/* 10 ms */
 	__u64 h[HIST_BUCKETS];
@@ -367,8 +417,8 @@ static void test_gap_life_wrap(void **state)
 static void test_component_name(void **state)
 {
 	struct fx *f = *state;
-	struct rtsup_can_key k1 = { 3, 0x123, RX }, k2 = { 3, EFF | 0x18fef100, TX },
-			     k3 = { 7, 0x5, RX };
+	struct rtsup_can_key k1 = { 3, 0x123, RX, 0 }, k2 = { 3, EFF | 0x18fef100, TX, 0 },
+			     k3 = { 7, 0x5, RX, 0 };
 	char buf[96];
 
 	iface(f, 3, "vcan0", 0);
@@ -388,7 +438,7 @@ static void test_model_next(void **state)
 	__u64 t = 1 * SEC;
 
 	feed(f, 1, RX, 0x181, &t, 10 * MS, 5);
-	e = can_entry_get(&f->m, &(struct rtsup_can_key){ 1, 0x181, RX }, false);
+	e = can_entry_get(&f->m, &(struct rtsup_can_key){ 1, 0x181, RX, 0 }, false);
 	assert_non_null(e);
 	assert_false(e->have_prev);
 	assert_false(i->have_prev);
@@ -420,7 +470,7 @@ static void test_unnamed_learn_then_silent(void **state)
 	iface(f, 3, "vcan0", 0);
 	feed(f, 3, RX, 0x123, &t, 10 * MS, 100);	/* 1.00 .. 1.99 s */
 	judge(f, 2 * SEC, 1.0);
-	e = can_entry_get(&f->m, &(struct rtsup_can_key){ 3, 0x123, RX }, false);
+	e = can_entry_get(&f->m, &(struct rtsup_can_key){ 3, 0x123, RX, 0 }, false);
 	assert_non_null(e);
 	/* 1 s of the 2 s learning time: nothing learned, nothing judged */
 	assert_int_equal(e->learned, 0);
@@ -471,7 +521,7 @@ static void test_unnamed_burst_not_learned(void **state)
 	feed(f, 3, RX, 0x321, &t, 1 * MS, 10);
 	judge(f, 2 * SEC, 1.0);
 	judge(f, 10 * SEC, 8.0);
-	e = can_entry_get(&f->m, &(struct rtsup_can_key){ 3, 0x321, RX }, false);
+	e = can_entry_get(&f->m, &(struct rtsup_can_key){ 3, 0x321, RX, 0 }, false);
 	assert_int_equal(e->learned, 0);
 	expect(f, "vcan0 0x321 rx", LEVEL_OK, NULL);
 	/* three gaps of 100 ms, 100 ms and 9.5 s: not steady, not learned */
@@ -495,7 +545,7 @@ static void test_unnamed_unlearned_when_sporadic(void **state)
 	iface(f, 3, "vcan0", 0);
 	feed(f, 3, RX, 0x124, &t, 10 * MS, 300);	/* 1.00 .. 3.99 s, steady */
 	judge(f, 4 * SEC, 3.0);
-	e = can_entry_get(&f->m, &(struct rtsup_can_key){ 3, 0x124, RX }, false);
+	e = can_entry_get(&f->m, &(struct rtsup_can_key){ 3, 0x124, RX, 0 }, false);
 	assert_int_equal(e->learned, 10 * MS);
 	/* now bursts: 5 frames 1 ms apart every 400 ms, for three 1 s intervals */
 	for (now = 5 * SEC, k = 0; k < 3; k++, now += SEC) {
@@ -543,7 +593,7 @@ static void test_canopen_sporadic_ids_never_learned(void **state)
 	judge(f, t + 1 * MS, 3.0);
 	for (i = 0; i < n; i++) {
 		struct can_entry *e = can_entry_get(&f->m,
-			&(struct rtsup_can_key){ 1, ids[i], RX }, false);
+			&(struct rtsup_can_key){ 1, ids[i], RX, 0 }, false);
 
 		assert_non_null(e);
 		assert_int_equal(e->learned, i == n - 1 ? 10 * MS : 0);
@@ -636,13 +686,17 @@ static void test_node_range_aggregates(void **state)
 	assert_null(rec_of(f, "vcan0 0x182 rx"));
 	assert_non_null(rec_of(f, "vcan0 0x181 tx"));
 	assert_non_null(rec_of(f, "vcan1 0x181 rx"));
-	assert_int_equal(can_entry_get(&f->m, &(struct rtsup_can_key){ 1, 0x181, RX }, false)->node,
+	assert_int_equal(can_entry_get(&f->m, &(struct rtsup_can_key){ 1, 0x181, RX, 0 },
+				       false)->node,
 			 0);
-	assert_int_equal(can_entry_get(&f->m, &(struct rtsup_can_key){ 1, 0x182, RX }, false)->node,
+	assert_int_equal(can_entry_get(&f->m, &(struct rtsup_can_key){ 1, 0x182, RX, 0 },
+				       false)->node,
 			 0);
-	assert_int_equal(can_entry_get(&f->m, &(struct rtsup_can_key){ 1, 0x181, TX }, false)->node,
+	assert_int_equal(can_entry_get(&f->m, &(struct rtsup_can_key){ 1, 0x181, TX, 0 },
+				       false)->node,
 			 -1);
-	assert_int_equal(can_entry_get(&f->m, &(struct rtsup_can_key){ 2, 0x181, RX }, false)->node,
+	assert_int_equal(can_entry_get(&f->m, &(struct rtsup_can_key){ 2, 0x181, RX, 0 },
+				       false)->node,
 			 -1);
 
 	/* only 0x182 goes on: the node still answers */
@@ -939,7 +993,7 @@ static void test_iface_bus_off_cleared_by_link_up(void **state)
 	struct can_iface *i;
 
 	iface(f, 1, "vcan0", 0);
-	i = can_iface_get(&f->m, 1, false);
+	i = can_iface_get(&f->m, 0, 1, false);
 	can_iface_link(i, true, -1);		/* a vcan: no controller state */
 	err_frames(f, 1, RTSUP_CAN_ERR_BUSOFF, 0, 1, 1 * SEC);
 	can_iface_link(i, true, -1);
@@ -969,7 +1023,7 @@ static void test_iface_controller_state_from_netlink(void **state)
 	iface(f, 1, "can0", 0);
 	f->cfg.can.err_warn = 0;
 	f->cfg.can.err_error = 0;
-	i = can_iface_get(&f->m, 1, false);
+	i = can_iface_get(&f->m, 0, 1, false);
 	err_frames(f, 1, RTSUP_CAN_ERR_BUSOFF, 0, 1, 1 * SEC);
 	can_iface_link(i, true, 3);		/* CAN_STATE_BUS_OFF */
 	judge(f, 2 * SEC, 1.0);
@@ -1298,6 +1352,8 @@ int main(void)
 		T(test_entries_sorted),
 		T(test_entries_small),
 		T(test_iface_get),
+		T(test_iface_same_ifindex_two_namespaces),
+		T(test_iface_replugged),
 		T(test_component_name),
 		T(test_gap_life_wrap),
 		T(test_model_next),
