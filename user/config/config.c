@@ -1180,7 +1180,7 @@ static int parse_actions(struct parse *p, yaml_node_t *seq, struct config *c)
 	return 0;
 }
 
-/* parse_top - the document: a map with defaults:, rules:, can: and actions: */
+/* parse_top - the document: a map with defaults:, rules:, can:, actions: and ros2_diagnostics: */
 static int parse_top(struct parse *p, yaml_node_t *top, struct config *c)
 {
 	yaml_node_t *k, *v, *rules = NULL;
@@ -1204,9 +1204,16 @@ static int parse_top(struct parse *p, yaml_node_t *top, struct config *c)
 		} else if (!strcmp(text(k), "actions")) {
 			if (parse_actions(p, v, c))
 				return -1;
+		} else if (!strcmp(text(k), "ros2_diagnostics")) {
+			const char *b;
+
+			if (scalar(p, v, "ros2_diagnostics", &b))
+				return -1;
+			if (parse_bool(b, &c->ros2_diagnostics))
+				return fail(p, v, "bad boolean '%s' (want true or false)", b);
 		} else {
 			return fail(p, k, "unknown key '%s' at top level (want defaults, "
-				    "rules, can or actions)", text(k));
+				    "rules, can, actions or ros2_diagnostics)", text(k));
 		}
 	}
 	/* rules copy the defaults, so they come after them whatever the order */
@@ -1842,6 +1849,7 @@ void config_print(const struct config *c, FILE *out)
 	}
 	print_can(out, &c->can);
 	print_actions(out, c);
+	fprintf(out, "ros2_diagnostics: %s\n", c->ros2_diagnostics ? "true" : "false");
 }
 
 void config_free(struct config *c)
