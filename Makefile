@@ -297,6 +297,7 @@ install: all
 	test -e $(DESTDIR)$(SYSCONFDIR)/rtsup/rtsup-trace.env || \
 		install -m 0644 systemd/rtsup-trace.env $(DESTDIR)$(SYSCONFDIR)/rtsup/rtsup-trace.env
 	sed 's|@BINDIR@|$(PREFIX)/bin|g' systemd/listen.conf > $(DESTDIR)$(SYSCONFDIR)/rtsup/listen.conf.example
+	install -m 0644 systemd/ros2-diagnostics.conf $(DESTDIR)$(SYSCONFDIR)/rtsup/ros2-diagnostics.conf.example
 
 # Weeks without a restart, in 10 minutes: thread churn under the tool (not in make test).
 soak: all
