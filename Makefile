@@ -38,7 +38,7 @@ UNIT_SRCS := $(wildcard tests/unit/*/test_*.c)
 UNIT_BINS := $(patsubst %.c,$(OUT)/tests/%,$(notdir $(UNIT_SRCS)))
 
 .PHONY: all clean test unit integration test-noisy deps demo bench format-check install soak \
-	fuzz fuzz-build fuzz-regress sanitize ros2-venv
+	fuzz fuzz-build fuzz-regress sanitize ros2-venv deb
 .DELETE_ON_ERROR:
 # keep the BPF objects: the skeleton and the benchmark use them
 .SECONDARY:
@@ -102,11 +102,11 @@ $(OUT)/user/%.o: user/%.c
 
 $(OUT)/rtsup-trace: $(USER_OBJS)
 	$(call msg,LINK,$@)
-	$(Q)$(CC) $(CFLAGS) $^ $(USER_LIBS) -lm -o $@
+	$(Q)$(CC) $(CFLAGS) $(LDFLAGS) $^ $(USER_LIBS) -lm -o $@
 
 $(OUT)/rtsup-loadgen: scripts/loadgen/loadgen.c | $(OUT)
 	$(call msg,CC,$@)
-	$(Q)$(CC) $(CFLAGS) $(WARN) $(CPPFLAGS) $< -lpthread -ljansson -o $@
+	$(Q)$(CC) $(CFLAGS) $(WARN) $(CPPFLAGS) $(LDFLAGS) $< -lpthread -ljansson -o $@
 
 $(OUT)/rtsup-noise: scripts/noise/noise.c | $(OUT)
 	$(call msg,CC,$@)
@@ -114,7 +114,7 @@ $(OUT)/rtsup-noise: scripts/noise/noise.c | $(OUT)
 
 $(OUT)/rtsup-cansim: scripts/cansim/cansim.c | $(OUT)
 	$(call msg,CC,$@)
-	$(Q)$(CC) $(CFLAGS) $(WARN) $(CPPFLAGS) $< -lpthread -ljansson -o $@
+	$(Q)$(CC) $(CFLAGS) $(WARN) $(CPPFLAGS) $(LDFLAGS) $< -lpthread -ljansson -o $@
 
 # Small real programs the integration tests trace (tests/integration/progs).
 $(OUT)/progs/%: tests/integration/progs/%.c
@@ -298,6 +298,21 @@ install: all
 		install -m 0644 systemd/rtsup-trace.env $(DESTDIR)$(SYSCONFDIR)/rtsup/rtsup-trace.env
 	sed 's|@BINDIR@|$(PREFIX)/bin|g' systemd/listen.conf > $(DESTDIR)$(SYSCONFDIR)/rtsup/listen.conf.example
 	install -m 0644 systemd/ros2-diagnostics.conf $(DESTDIR)$(SYSCONFDIR)/rtsup/ros2-diagnostics.conf.example
+
+# The Debian packages rtsup and rtsup-tools (debian/): dpkg-buildpackage on a
+# copy of the tree in $(OUT)/deb, where the .deb files land; lintian must
+# find no error.
+DEB_DIR := $(OUT)/deb
+deb:
+	$(Q)rm -rf $(DEB_DIR) && mkdir -p $(DEB_DIR)/rtsup
+	$(Q)tar --exclude=./build --exclude=./build-san --exclude=./.git --exclude=.pytest_cache \
+		--exclude=__pycache__ -cf - . | tar -xf - -C $(DEB_DIR)/rtsup
+	$(call msg,DEB,$(DEB_DIR))
+	$(Q)cd $(DEB_DIR)/rtsup && dpkg-buildpackage -b -us -uc >../build.log 2>&1 || \
+		{ tail -40 ../build.log; exit 1; }
+	$(call msg,LINTIAN,$(DEB_DIR))
+	$(Q)lintian --fail-on error $(DEB_DIR)/*.changes
+	$(Q)ls $(DEB_DIR)/*.deb
 
 # Weeks without a restart, in 10 minutes: thread churn under the tool (not in make test).
 soak: all
