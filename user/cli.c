@@ -67,6 +67,7 @@ enum {
 	OPT_HIST,
 	OPT_HIST_INTERVAL,
 	OPT_ON_LEVEL,
+	OPT_ROS2_DIAG,
 };
 
 static const struct argp_option opts[] = {
@@ -108,6 +109,8 @@ static const struct argp_option opts[] = {
 	  "On a level change run a command, send a signal or write a JSON line "
 	  "(repeatable): [!]LEVEL:CMD, LEVEL:signal=SIG[@PID], LEVEL:fifo=PATH, "
 	  "LEVEL:unix=PATH; ! = on leaving LEVEL", 0 },
+	{ "ros2-diagnostics", OPT_ROS2_DIAG, NULL, 0,
+	  "Publish the verdicts on ROS 2 /diagnostics (Cyclone DDS, ROS_DOMAIN_ID)", 0 },
 	/* make bench: the same hooks with empty programs, the floor of any BPF tracer */
 	{ "floor", OPT_FLOOR, NULL, OPTION_HIDDEN, "Attach empty programs instead (benchmark)", 0 },
 	{},
@@ -305,6 +308,9 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 		break;
 	case OPT_PROM_TEXTFILE:
 		o->prom_textfile = arg;
+		break;
+	case OPT_ROS2_DIAG:
+		o->ros2_diag = true;
 		break;
 	case OPT_LISTEN:
 		o->listen = arg;

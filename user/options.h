@@ -51,6 +51,7 @@ struct options {
 	bool quiet;		/* -q: no progress bar */
 	const char *on_level[16];	/* --on-level SPEC, checked by action_parse */
 	int non_level;
+	bool ros2_diag;		/* --ros2-diagnostics (or the config's ros2_diagnostics:) */
 	bool floor;		/* --floor (hidden): empty programs on the same hooks, for make bench */
 };
 

@@ -343,7 +343,7 @@ static int parse_actions(struct parse *p, yaml_node_t *seq, struct config *c)
 	return 0;
 }
 
-/* parse_top - the document: a map with defaults:, rules:, can: and actions: */
+/* parse_top - the document: a map with defaults:, rules:, can:, actions: and ros2_diagnostics: */
 static int parse_top(struct parse *p, yaml_node_t *top, struct config *c)
 {
 	yaml_node_t *k, *v, *rules = NULL;
@@ -367,9 +367,16 @@ static int parse_top(struct parse *p, yaml_node_t *top, struct config *c)
 		} else if (!strcmp(cfg_text(k), "actions")) {
 			if (parse_actions(p, v, c))
 				return -1;
+		} else if (!strcmp(cfg_text(k), "ros2_diagnostics")) {
+			const char *b;
+
+			if (cfg_scalar(p, v, "ros2_diagnostics", &b))
+				return -1;
+			if (cfg_parse_bool(b, &c->ros2_diagnostics))
+				return cfg_fail(p, v, "bad boolean '%s' (want true or false)", b);
 		} else {
 			return cfg_fail(p, k, "unknown key '%s' at top level (want defaults, "
-				    "rules, can or actions)", cfg_text(k));
+				    "rules, can, actions or ros2_diagnostics)", cfg_text(k));
 		}
 	}
 	/* rules copy the defaults, so they come after them whatever the order */

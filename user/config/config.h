@@ -125,6 +125,7 @@ struct config {
 	struct can_config can;
 	struct action *actions;		/* actions: then --on-level, in that order */
 	int nactions;
+	bool ros2_diagnostics;		/* publish ROS 2 /diagnostics (robot/ros2diag.c) */
 };
 
 /* config_defaults - the built-in configuration (no file) */

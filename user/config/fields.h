@@ -104,6 +104,7 @@ int cfg_npairs(const yaml_node_t *n);
 int cfg_pair(struct parse *p, yaml_node_t *map, int i, yaml_node_t **k, yaml_node_t **v,
 	 const char *in);
 int cfg_scalar(struct parse *p, const yaml_node_t *n, const char *key, const char **s);
+int cfg_parse_bool(const char *s, bool *b);
 void cfg_in_where(const struct parse *p, const char *path, char *in, size_t len);
 int cfg_parse_group(struct parse *p, const struct field *fields, yaml_node_t *map,
 		void *obj, __u32 *set, const char *path, const char *what,

@@ -388,4 +388,5 @@ void config_print(const struct config *c, FILE *out)
 	}
 	cfg_print_can(out, &c->can);
 	print_actions(out, c);
+	fprintf(out, "ros2_diagnostics: %s\n", c->ros2_diagnostics ? "true" : "false");
 }

@@ -113,8 +113,8 @@ static int parse_count(const char *s, __u64 *v)
 	return errno ? -1 : 0;
 }
 
-/* parse_bool - the YAML 1.1 spellings of true and false */
-static int parse_bool(const char *s, bool *b)
+/* cfg_parse_bool - the YAML 1.1 spellings of true and false */
+int cfg_parse_bool(const char *s, bool *b)
 {
 	static const char *const yes[] = { "true", "yes", "on" };
 	static const char *const no[] = { "false", "no", "off" };
@@ -340,7 +340,7 @@ int cfg_parse_field(struct parse *p, const struct field *f, yaml_node_t *v,
 			return cfg_fail(p, v, "bad count '%s' (want a whole number >= 0)", s);
 		return 0;
 	case F_BOOL:
-		if (parse_bool(s, dst))
+		if (cfg_parse_bool(s, dst))
 			return cfg_fail(p, v, "bad boolean '%s' (want true or false)", s);
 		return 0;
 	case F_STAT:

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
-/* robot.c - systemd, journal, Prometheus and --unit around the live loop */
+/* robot.c - systemd, journal, Prometheus, /diagnostics and --unit around the live loop */
 #include <stdio.h>
 #include <string.h>
 #include "robot/robot.h"
@@ -51,6 +51,9 @@ int robot_start(struct robot *r, struct collector *c, const struct supervisor *s
 	}
 	if (promexp_open(&r->pe, r->o->prom_textfile, r->o->listen))
 		return -1;
+	/* read at the start only: a SIGHUP reload does not switch it */
+	if ((r->o->ros2_diag || s->cfg.ros2_diagnostics) && ros2diag_open(&r->diag))
+		return -1;	/* robot_stop closes the exporters */
 	r->started = true;
 	render(r, c, s, mono_now());
 	service_status_line(&c->model, s, line, sizeof(line));
@@ -72,6 +75,7 @@ void robot_interval(struct robot *r, struct collector *c, const struct superviso
 	if (!r->started || r->stopped)
 		return;
 	render(r, c, s, now);
+	ros2diag_publish(&r->diag, &c->model, s, now);
 	service_status_line(&c->model, s, line, sizeof(line));
 	service_status(&r->sv, line);
 	if (r->o->unit)
@@ -92,6 +96,7 @@ void robot_stop(struct robot *r)
 	if (r->started)
 		service_stopping(&r->sv);
 	promexp_close(&r->pe);
+	ros2diag_close(&r->diag);
 	unit_free(&r->unit);
 	prom_buf_free(&r->buf);
 }

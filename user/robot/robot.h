@@ -2,7 +2,7 @@
 /*
  * robot.h - what a long-running rtsup-trace on a robot adds to the live
  * loop: systemd readiness, status and watchdog, the journal, the
- * Prometheus exporters and --unit. main.c calls these at fixed points; each
+ * Prometheus exporters, ROS 2 /diagnostics and --unit. main.c calls these at fixed points; each
  * is a no-op when its option is not given.
  */
 #ifndef RTSUP_ROBOT_H
@@ -13,6 +13,7 @@
 #include "options.h"
 #include "sinks/prom.h"
 #include "sinks/promexp.h"
+#include "robot/ros2diag.h"
 #include "robot/service.h"
 #include "judge/supervise.h"
 #include "robot/unit.h"
@@ -22,6 +23,7 @@ struct robot {
 	struct service sv;
 	struct promexp pe;
 	struct unit_follow unit;
+	struct ros2diag diag;
 	struct prom_buf buf;
 	bool started;
 	bool stopped;
@@ -29,11 +31,11 @@ struct robot {
 
 /* robot_prepare - before loading: systemd's settings, --unit; the supervisor's log hook */
 int robot_prepare(struct robot *r, const struct options *o, struct supervisor *s);
-/* robot_start - after attach: --unit's cgroup, exporters, first metrics, READY=1 */
+/* robot_start - after attach: --unit's cgroup, exporters, /diagnostics, READY=1 */
 int robot_start(struct robot *r, struct collector *c, const struct supervisor *s);
 /* robot_tick - every pass of the main loop (at least every 100 ms): watchdog */
 void robot_tick(struct robot *r);
-/* robot_interval - after the verdicts of an interval: metrics, STATUS=, --unit */
+/* robot_interval - after the verdicts of an interval: metrics, /diagnostics, STATUS=, --unit */
 void robot_interval(struct robot *r, struct collector *c, const struct supervisor *s,
 		    __u64 now);
 /* robot_reload - around a SIGHUP reload */

@@ -774,6 +774,26 @@ static void test_config_actions(void **state)
 	assert_null(c.actions);
 }
 
+/* ros2_diagnostics: a boolean, off by default, printed back */
+static void test_config_ros2_diagnostics(void **state)
+{
+	struct config c;
+	char *buf = NULL;
+	size_t len = 0;
+	FILE *f;
+
+	config_defaults(&c);
+	assert_false(c.ros2_diagnostics);
+	load_ok(DIR "ros2-diagnostics.yaml", &c);
+	assert_true(c.ros2_diagnostics);
+	f = open_memstream(&buf, &len);
+	config_print(&c, f);
+	fclose(f);
+	assert_non_null(strstr(buf, "\nros2_diagnostics: true\n"));
+	free(buf);
+	config_free(&c);
+}
+
 /* --on-level adds after the file's actions, up to ACTION_MAX in all */
 static void test_config_add_action(void **state)
 {
@@ -944,7 +964,7 @@ BAD(utf8, "bad-utf8.yaml", "2:13: invalid leading UTF-8 octet")
 BAD(two_docs, "bad-two-docs.yaml", "2:1: more than one YAML document")
 BAD(unknown_key, "bad-unknown-key.yaml", "3:5: unknown key 'perod' in rule 'controller'")
 BAD(unknown_top, "bad-unknown-top.yaml",
-    "1:1: unknown key 'default' at top level (want defaults, rules, can or actions)")
+    "1:1: unknown key 'default' at top level (want defaults, rules, can, actions or ros2_diagnostics)")
 BAD(action_two_kinds, "bad-action-two-kinds.yaml",
     "2:5: action 1: give one of run, signal, fifo or unix")
 BAD(action_no_kind, "bad-action-no-kind.yaml",
@@ -952,6 +972,8 @@ BAD(action_no_kind, "bad-action-no-kind.yaml",
 BAD(action_no_level, "bad-action-no-level.yaml", "2:5: action 1 has no level")
 BAD(action_pid_no_signal, "bad-action-pid-no-signal.yaml",
     "2:5: action 1: pid goes with signal only")
+BAD(ros2_diagnostics, "bad-ros2-diagnostics.yaml",
+    "1:19: bad boolean 'sometimes' (want true or false)")
 BAD(action_signal, "bad-action-signal.yaml",
     "3:13: unknown signal 'USR7' (want e.g. USR1, TERM or 10)")
 BAD(action_when, "bad-action-when.yaml", "3:11: unknown when 'later' (want enter or leave)")
@@ -1161,6 +1183,8 @@ int main(void)
 		T(bad_can_dup_key),
 		T(bad_can_group_empty),
 		T(actions),
+		T(ros2_diagnostics),
+		T(bad_ros2_diagnostics),
 		T(add_action),
 		T(bad_action_two_kinds),
 		T(bad_action_no_kind),

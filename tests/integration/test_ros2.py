@@ -1,0 +1,201 @@
+# SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+"""ROS 2 /diagnostics (--ros2-diagnostics): an independent subscriber (the
+cyclonedds Python binding from PyPI, in the venv scripts/ros2-venv makes,
+with its own libddsc) reads rt/diagnostics with ROS 2's type, on loopback
+only and in a domain of its own. What it received is compared with the
+generator's threads, the fault injected into one of them, and the level
+changes rtsup-trace logged. With CI=true a venv that cannot be made fails
+the test, never skips it."""
+import datetime
+import json
+import os
+import random
+import re
+import socket
+import subprocess
+import threading
+import time
+
+import pytest
+
+from conftest import CLEAN_DEFAULTS, IN_CI, LOADGEN, ROOT, TRACE, Trace, unique_prefix
+
+pytestmark = pytest.mark.usefixtures("bpf")
+
+SUB = ROOT / "tests/integration/ros2/diagnostics_sub.py"
+LO_ONLY = ROOT / "tests/integration/ros2/cyclonedds-lo.xml"
+INTERVAL = 0.5
+CLEAN = CLEAN_DEFAULTS + """rules:
+  - name: loop
+    match: {thread: "PREFIX-*"}
+    period: 1ms
+"""
+LEVELS = "OK|WARN|ERROR|STALE"
+CHANGE = re.compile(r"^rtsup-trace: (\S+Z) (.+?): (%s) -> (%s)(?:: (.*))?$" % (LEVELS, LEVELS))
+ROS_LEVEL = {"OK": 0, "WARN": 1, "ERROR": 2, "STALE": 3}
+
+
+@pytest.fixture(scope="module")
+def venv_python():
+    r = subprocess.run([str(ROOT / "scripts/ros2-venv")], capture_output=True, text=True,
+                       timeout=600)
+    if r.returncode != 0:
+        why = "scripts/ros2-venv failed: " + r.stderr.strip()
+        if IN_CI:
+            pytest.fail("CI=true and " + why)
+        pytest.skip(why)
+    return r.stdout.strip().splitlines()[-1]
+
+
+def dds_env():
+    """Loopback only, and a domain no other test run on this host uses now."""
+    env = dict(os.environ)
+    env["CYCLONEDDS_URI"] = "file://%s" % LO_ONLY
+    env["ROS_DOMAIN_ID"] = str(random.Random(os.getpid() ^ time.time_ns()).randrange(1, 230))
+    return env
+
+
+class Subscriber:
+    """diagnostics_sub.py: every message it printed, read while it runs."""
+
+    def __init__(self, python, env):
+        self.proc = subprocess.Popen([python, str(SUB)], env=env, stdout=subprocess.PIPE,
+                                     stderr=subprocess.PIPE, text=True)
+        line = self.proc.stdout.readline()
+        if '"ready"' not in line:
+            raise AssertionError("subscriber did not start: " + line + self.proc.stderr.read())
+        self.msgs = []
+        self.reader = threading.Thread(target=self._drain, daemon=True)
+        self.reader.start()
+
+    def _drain(self):
+        for line in self.proc.stdout:
+            self.msgs.append(json.loads(line))
+
+    def stop(self):
+        self.proc.terminate()
+        self.proc.wait(timeout=30)
+        self.reader.join(timeout=30)
+        return self.msgs
+
+
+def changes(stderr):
+    """Level changes rtsup-trace logged: (unix time in ms, component, from, to)."""
+    out = []
+    for line in stderr.splitlines():
+        m = CHANGE.match(line)
+        if m:
+            t = datetime.datetime.strptime(m.group(1), "%Y-%m-%dT%H:%M:%S.%fZ")
+            ms = round(t.replace(tzinfo=datetime.timezone.utc).timestamp() * 1000)
+            out.append((ms, m.group(2), m.group(3), m.group(4)))
+    return out
+
+
+def stamp_ms(msg):
+    """The header's stamp in ms, as the log line's time is written (cut, not rounded)."""
+    st = msg["header"]["stamp"]
+    return st["sec"] * 1000 + st["nanosec"] // 1000000
+
+
+def logged_level(chg, component, ms):
+    """The level the tool logged for a component at the verdict of time ms."""
+    level = "OK"
+    for t, comp, _, to in chg:
+        if comp == component and t <= ms:
+            level = to
+    return level
+
+
+def maps_ddsc(pid):
+    with open("/proc/%d/maps" % pid) as f:
+        return "libddsc" in f.read()
+
+
+def test_diagnostics_threads_levels_and_fault(tmp_path, venv_python):
+    prefix = unique_prefix()
+    cfg = tmp_path / "rt.yaml"
+    cfg.write_text(CLEAN.replace("PREFIX", prefix))
+    env = dds_env()
+    sub = Subscriber(venv_python, env)
+    # the fault at 3 s: discovery on loopback is over long before
+    lg_cmd = [str(LOADGEN), "--name", prefix, "-n", "2", "-c", "5000", "-C", "0,1",
+              "-s", str(tmp_path / "loadgen.json"), "-f", "mmap@3000,thread=0"]
+    trace = subprocess.Popen([str(TRACE), "--ros2-diagnostics", "--no-overhead",
+                              "-i", "%gs" % INTERVAL, "--config", str(cfg), "--"] + lg_cmd,
+                             env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                             text=True)
+    try:
+        # Cyclone DDS is in the process, once attached, because it was asked for
+        end = time.monotonic() + 20
+        while not maps_ddsc(trace.pid) and trace.poll() is None and time.monotonic() < end:
+            time.sleep(0.05)
+        assert maps_ddsc(trace.pid)
+        _, err = trace.communicate(timeout=120)
+    finally:
+        if trace.poll() is None:
+            trace.kill()
+        msgs = sub.stop()
+    assert trace.returncode == 0, err
+    assert "publishing ROS 2 /diagnostics (DDS domain %s)" % env["ROS_DOMAIN_ID"] in err, err
+    truth = json.loads((tmp_path / "loadgen.json").read_text())
+    host = socket.gethostname().replace("/", "_")
+    names = {"rtsup/%s/%s-%d[%d]" % (host, prefix, i, t["tid"]): i
+             for i, t in enumerate(truth["threads"])}
+    assert len(names) == 2 and len(msgs) >= 6, (len(msgs), err)
+    chg = changes(err)
+    seen = {n: [] for n in names}
+    for m in msgs:
+        by_name = {s["name"]: s for s in m["status"]}
+        me = by_name["rtsup/%s/rtsup-trace" % host]
+        assert me["hardware_id"] == host and me["level"] in (0, 1, 2, 3)
+        for n, i in names.items():
+            if n not in by_name:
+                continue  # before its first cycle
+            s = by_name[n]
+            assert s["hardware_id"] == host
+            comp = n.rsplit("/", 1)[1]
+            # the level the tool itself logged for that component at that verdict
+            assert s["level"] == ROS_LEVEL[logged_level(chg, comp, stamp_ms(m))], (s, chg)
+            vals = {v["key"]: v["value"] for v in s["values"]}
+            assert vals["tid"] == str(truth["threads"][i]["tid"]), vals
+            seen[n].append((m, s))
+    # both threads, before and after the fault (the subscriber started first)
+    assert all(len(v) >= 4 for v in seen.values()), {n: len(v) for n, v in seen.items()}
+    faulty = [n for n, i in names.items() if i == 0][0]
+    clean = [n for n, i in names.items() if i == 1][0]
+    # the injected mmap: a WARN that says so, on that thread only
+    warn = [(m, s) for m, s in seen[faulty] if s["level"] == 1 and "mmap 1" in s["message"]]
+    assert warn, [s for _, s in seen[faulty]]
+    assert not any("mmap" in s["message"] for _, s in seen[clean])
+    # published at once: the message that first says WARN carries the verdict
+    # that changed the level (the logged OK -> WARN), and the one before said OK
+    first = seen[faulty].index(warn[0])
+    m, s = warn[0]
+    comp = faulty.rsplit("/", 1)[1]
+    into = [t for t, c, a, b in chg if c == comp and b == "WARN"]
+    assert stamp_ms(m) in into, (stamp_ms(m), chg)
+    assert first > 0 and seen[faulty][first - 1][1]["level"] == 0
+    # and it arrived within one interval of that verdict. The race: DDS's
+    # delivery over loopback and the subscriber's wake-up on a loaded host.
+    # The stamp is CLOCK_MONOTONIC plus the offset to CLOCK_REALTIME taken at
+    # the start: an NTP slew since may move it by a few ms (10 ms allowed)
+    lag = m["received"] - (m["header"]["stamp"]["sec"] + m["header"]["stamp"]["nanosec"] / 1e9)
+    assert -0.01 <= lag < INTERVAL, lag
+    vals = {v["key"]: v["value"] for v in s["values"]}
+    assert int(vals["unsafe_total"]) >= 1 and vals["worst_level"] == "WARN", vals
+
+
+def test_no_dds_unless_asked_and_bad_domain(tmp_path):
+    # without the option the process never maps libddsc
+    tr = Trace(["--no-overhead", "--tid", str(os.getpid())])
+    try:
+        time.sleep(0.5)
+        assert not maps_ddsc(tr.proc.pid)
+    finally:
+        tr.stop()
+    env = dds_env()
+    env["ROS_DOMAIN_ID"] = "233"
+    r = subprocess.run([str(TRACE), "--ros2-diagnostics", "--tid", str(os.getpid()),
+                        "-d", "1s"], env=env, capture_output=True, text=True, timeout=60)
+    assert r.returncode == 1
+    assert "rtsup-trace: ROS_DOMAIN_ID '233': want a domain id from 0 to 232\n" in r.stderr
