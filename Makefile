@@ -18,7 +18,7 @@ CFLAGS   ?= -O2 -g
 WARN     := -Wall -Wextra -Wno-unused-parameter
 INCLUDES := -Iinclude -I$(OUT) -I/usr/include/libnl3
 USER_INC := -Iuser
-USER_LIBS := -lbpf -lelf -lz -ljansson -lyaml -lnl-route-3 -lnl-3 -lsystemd -lpthread
+USER_LIBS := -lbpf -ldw -lelf -lz -ljansson -lyaml -lnl-route-3 -lnl-3 -lsystemd -lpthread
 CPPFLAGS += -D_GNU_SOURCE -MMD -MP
 
 ifeq ($(V),1)
@@ -43,7 +43,8 @@ UNIT_BINS := $(patsubst %.c,$(OUT)/tests/%,$(notdir $(UNIT_SRCS)))
 .SECONDARY:
 
 all: $(OUT)/rtsup-trace $(OUT)/rtsup-loadgen $(OUT)/rtsup-cansim $(OUT)/rtsup-noise \
-     $(OUT)/progs/usleep_loop $(OUT)/progs/timerfd_loop $(OUT)/progs32/abi32_loop
+     $(OUT)/progs/usleep_loop $(OUT)/progs/timerfd_loop $(OUT)/progs32/abi32_loop \
+     $(OUT)/progs/where_loop_fp $(OUT)/progs/where_loop_dwarf
 
 $(OUT) $(OUT)/tests:
 	$(Q)mkdir -p $@
@@ -113,6 +114,20 @@ $(OUT)/progs/%: tests/integration/progs/%.c
 	@mkdir -p $(@D)
 	$(call msg,CC,$@)
 	$(Q)$(CC) $(CFLAGS) $(WARN) $< -o $@
+
+# test_where.py: the same loop with frame pointers as Fedora and Ubuntu 24.04
+# build (its mmap a syscall of its own: a frameless libc wrapper would hide
+# its caller from a frame-pointer walk), and -O2 -g without
+$(OUT)/progs/where_loop_fp: tests/integration/progs/where_loop.c
+	@mkdir -p $(@D)
+	$(call msg,CC,$@)
+	$(Q)$(CC) -O2 -g -fno-omit-frame-pointer -mno-omit-leaf-frame-pointer \
+		-DWHERE_RAW_SYSCALL $(WARN) $< -lpthread -o $@
+
+$(OUT)/progs/where_loop_dwarf: tests/integration/progs/where_loop.c
+	@mkdir -p $(@D)
+	$(call msg,CC,$@)
+	$(Q)$(CC) -O2 -g -fomit-frame-pointer $(WARN) $< -lpthread -o $@
 
 # The same, built for the 32-bit ABI (gcc-multilib): other syscall numbers.
 $(OUT)/progs32/%: tests/integration/progs/%.c

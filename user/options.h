@@ -50,6 +50,9 @@ struct options {
 	bool quiet;		/* -q: no progress bar */
 	const char *on_level[16];	/* --on-level SPEC, checked by action_parse */
 	int non_level;
+	__u32 stacks;		/* --stacks: enum rtsup_stacks */
+	__u32 stack_size;	/* --stack-size: DWARF bytes of user stack per event */
+	__u32 stack_budget;	/* --stack-budget: records per thread per interval */
 	bool floor;		/* --floor (hidden): empty programs on the same hooks, for make bench */
 };
 

@@ -160,6 +160,14 @@ int loader_start(struct loader *l, const struct options *o)
 	bpf_map__set_max_entries(s->maps.threads, o->max_threads);
 	bpf_map__set_max_entries(s->maps.unsafe_sys, o->max_threads * 4);
 	bpf_map__set_max_entries(s->maps.thread_cfg, o->max_threads);
+	s->rodata->cfg_stacks = o->stacks;
+	s->rodata->cfg_stack_size = o->stack_size;
+	s->rodata->cfg_stack_budget = o->stack_budget;
+	bpf_map__set_max_entries(s->maps.stack_budget, o->max_threads);
+	/* room for a budget's worth of DWARF records of a few threads */
+	if (o->stacks)
+		bpf_map__set_max_entries(s->maps.stacks, o->stacks == RTSUP_STACKS_DWARF ?
+					 16 << 20 : 1 << 20);
 	/* a cycle record per cycle: 4 MiB hold seconds of a busy machine */
 	if (s->rodata->cfg_record)
 		bpf_map__set_max_entries(s->maps.cycles, 4 << 20);

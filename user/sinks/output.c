@@ -10,6 +10,7 @@
 #include "sinks/output_hist.h"
 #include "model/syscalls.h"
 #include "sinks/output_can.h"
+#include "sinks/output_stacks.h"
 
 #define MAX_EVENT_LINES 10
 
@@ -164,6 +165,9 @@ static json_t *json_thread(const struct collector *c, const struct supervisor *s
 	if (window)
 		json_object_set_new(o, "interval", json_span(&tm->win, tm, true));
 	json_object_set_new(o, "total", json_span(&tm->life, tm, false));
+	/* --stacks: where in the code its RT-unsafe events came from */
+	if (c->o->stacks)
+		json_object_set_new(o, "stacks", stacks_json(&c->stacks, tm->tid, window));
 	/* --hist: the summary's lifetime ones, and each interval's with --hist-interval */
 	if (c->o->hist && hist_shown(tm) && (!window || c->o->hist_interval))
 		json_object_set_new(json_object_get(o, window ? "interval" : "total"), "hist",
@@ -364,6 +368,10 @@ static void json_interval(const struct collector *c, const struct supervisor *sv
 		json_key("can");
 		json_put(can_json(sv->can, &sv->cfg, sv->now, interval, false));
 	}
+	if (c->o->stacks) {
+		json_key("stack_records");
+		json_put(stacks_health_json(&c->stacks));
+	}
 	json_key("events");
 	putchar('[');
 	for (i = 0; i < (int)c->events.n; i++) {
@@ -415,6 +423,8 @@ static void json_summary(const struct collector *c, const struct supervisor *sv,
 						    level_name(v->level), "what", v->what, "checks",
 						    json_checks(v->fact, v->nfact, text)));
 	}
+	if (c->o->stacks)
+		json_object_set_new(o, "stack_records", stacks_health_json(&c->stacks));
 	json_object_set_new(o, "violations", vs);
 	json_object_set_new(o, "violations_not_listed", json_integer(sv->v_dropped));
 	json_fields(o, true);	/* the small rest, after the threads */
@@ -572,6 +582,8 @@ static void table_interval(const struct collector *c, const struct supervisor *s
 	hidden += c->events.folded + c->events.dropped;
 	if (hidden)
 		printf("  ... %llu more events\n", (unsigned long long)hidden);
+	if (c->o->stacks)
+		stacks_table(stdout, &c->stacks, &c->model, true);
 	printf("\n");
 	if (c->o->hist_interval)
 		hist_table(c, sv, true);
@@ -617,6 +629,8 @@ static void table_summary(const struct collector *c, const struct supervisor *sv
 			       (unsigned long long)tm->sys[j].total);
 		printf("\n");
 	}
+	if (c->o->stacks)
+		stacks_table(stdout, &c->stacks, &c->model, false);
 	if (sv->can)
 		can_table(sv->can, &sv->cfg, sv->now, elapsed, true);
 	/* every violation, with when and what */

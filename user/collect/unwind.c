@@ -1,0 +1,393 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/*
+ * unwind.c - user stacks to frames with libdwfl (elfutils), the way perf's
+ * util/unwind-libdw.c does: the modules of a process are reported from its
+ * mappings, the copied registers and stack stand in for the live thread
+ * (Dwfl_Thread_Callbacks), and dwfl_getthread_frames unwinds from
+ * .eh_frame/.debug_frame. No unwinder or DWARF parser of our own.
+ */
+#include <errno.h>
+#include <fcntl.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include <elfutils/libdwfl.h>
+#include <elfutils/libdwelf.h>
+#include "collect/procmaps.h"
+#include "collect/unwind.h"
+
+/* One target process: its mappings and a libdwfl session over them. */
+struct uproc {
+	__u32 tgid;
+	struct procmap *maps;
+	__u32 *flags;		/* FRAME_* per mapping */
+	int nmaps;
+	Dwfl *dwfl;
+	bool attached;		/* dwfl_attach_state done */
+	bool exec_known;	/* exec_id is the one the mappings were read in */
+	__u32 exec_id;
+	/* the record being unwound, for the thread callbacks */
+	const struct rtsup_stack_rec *cur;
+	__u64 pcs[STACK_MAX_FRAMES];
+	bool act[STACK_MAX_FRAMES];	/* the exact pc, not a return address */
+	int npcs;
+};
+
+struct unwinder {
+	struct uproc *p;
+	int n, cap;
+};
+
+static char *debuginfo_path;	/* NULL: libdwfl's default, .debug and /usr/lib/debug */
+
+static const Dwfl_Callbacks dwfl_cbs = {
+	.find_elf = dwfl_linux_proc_find_elf,
+	.find_debuginfo = dwfl_standard_find_debuginfo,
+	.debuginfo_path = &debuginfo_path,
+};
+
+struct unwinder *unwinder_new(void)
+{
+	elf_version(EV_CURRENT);
+	return calloc(1, sizeof(struct unwinder));
+}
+
+/* build_id_of - the GNU build-id of an ELF file, hex; "" if none */
+static void build_id_of(int fd, char *hex, size_t len)
+{
+	Elf *elf = fd >= 0 ? elf_begin(fd, ELF_C_READ_MMAP, NULL) : NULL;
+	const unsigned char *id;
+	ssize_t n, i;
+
+	hex[0] = '\0';
+	if (!elf)
+		return;
+	n = dwelf_elf_gnu_build_id(elf, (const void **)&id);
+	for (i = 0; i < n && (size_t)(i * 2 + 2) < len; i++)
+		snprintf(hex + i * 2, 3, "%02x", id[i]);
+	elf_end(elf);
+}
+
+/*
+ * replaced - is the file at the mapping's path another build than the one
+ * mapped (map_fd, the mapped inode)? Then names from the path would be
+ * wrong: libdwfl reads the mapped one, and the frame says so.
+ */
+static bool replaced(int map_fd, const char *path)
+{
+	char a[41], b[41];
+	int fd = open(path, O_RDONLY | O_CLOEXEC);
+
+	build_id_of(map_fd, a, sizeof(a));
+	build_id_of(fd, b, sizeof(b));
+	if (fd >= 0)
+		close(fd);
+	return a[0] && strcmp(a, b);
+}
+
+/* uproc_load - (re)read the mappings and report them as libdwfl modules */
+static int uproc_load(struct uproc *p)
+{
+	char path[64];
+	FILE *f;
+	int i, j, fd, n;
+	struct procmap *maps;
+
+	snprintf(path, sizeof(path), "/proc/%u/maps", p->tgid);
+	f = fopen(path, "re");
+	if (!f)
+		return -errno;
+	n = procmaps_read(f, &maps);
+	fclose(f);
+	if (n < 0)
+		return -ENOMEM;
+	if (p->dwfl)
+		dwfl_end(p->dwfl);
+	free(p->maps);
+	free(p->flags);
+	p->maps = maps;
+	p->nmaps = n;
+	p->flags = calloc(n ? n : 1, sizeof(*p->flags));
+	p->attached = false;
+	p->dwfl = dwfl_begin(&dwfl_cbs);
+	if (!p->dwfl || !p->flags)
+		return -ENOMEM;
+	dwfl_report_begin(p->dwfl);
+	for (i = 0; i < n; i++) {
+		/* a file mapped twice executable is one module */
+		for (j = 0; j < i; j++)
+			if (!strcmp(maps[j].path, maps[i].path))
+				break;
+		if (j < i) {
+			p->flags[i] = p->flags[j];
+			continue;
+		}
+		/* the mapped inode itself, whatever is at the path now */
+		snprintf(path, sizeof(path), "/proc/%u/map_files/%llx-%llx", p->tgid,
+			 (unsigned long long)maps[i].start, (unsigned long long)maps[i].end);
+		fd = open(path, O_RDONLY | O_CLOEXEC);
+		if (maps[i].deleted)
+			p->flags[i] |= FRAME_DELETED;
+		else if (fd >= 0 && replaced(fd, maps[i].path))
+			p->flags[i] |= FRAME_REPLACED;
+		if (fd < 0 && maps[i].deleted)
+			continue;	/* nothing to read it from: module+offset unknown */
+		/* libdwfl owns fd on success */
+		if (!dwfl_report_elf(p->dwfl, maps[i].path, maps[i].path, fd,
+				     maps[i].start - maps[i].pgoff, false) && fd >= 0)
+			close(fd);
+	}
+	dwfl_report_end(p->dwfl, NULL, NULL);
+	return 0;
+}
+
+/* uproc_get - the process's entry; its mappings are read at first sight */
+static struct uproc *uproc_get(struct unwinder *u, __u32 tgid)
+{
+	struct uproc *p;
+	int i;
+
+	for (i = 0; i < u->n; i++)
+		if (u->p[i].tgid == tgid)
+			return &u->p[i];
+	if (u->n == u->cap) {
+		int cap = u->cap ? u->cap * 2 : 8;
+		struct uproc *np = realloc(u->p, cap * sizeof(*np));
+
+		if (!np)
+			return NULL;
+		u->p = np;
+		u->cap = cap;
+	}
+	p = &u->p[u->n++];
+	memset(p, 0, sizeof(*p));
+	p->tgid = tgid;
+	uproc_load(p);
+	return p;
+}
+
+void unwind_note_process(struct unwinder *u, __u32 tgid)
+{
+	uproc_get(u, tgid);
+}
+
+/* ---- DWARF: the copied registers and stack as the thread's state ---- */
+
+static pid_t next_thread(Dwfl *dwfl, void *arg, void **thread_argp)
+{
+	struct uproc *p = arg;
+
+	if (*thread_argp)
+		return 0;
+	*thread_argp = p;
+	return p->cur->tid;
+}
+
+/* memory_read - only the copied stack: what is outside is not known */
+static bool memory_read(Dwfl *dwfl, Dwarf_Addr addr, Dwarf_Word *result, void *arg)
+{
+	struct uproc *p = arg;
+	const struct rtsup_stack_rec *r = p->cur;
+
+	if (addr < r->sp || addr + sizeof(*result) > r->sp + r->dump_len)
+		return false;
+	memcpy(result, (const char *)(r + 1) + (addr - r->sp), sizeof(*result));
+	return true;
+}
+
+static bool set_initial_registers(Dwfl_Thread *thread, void *arg)
+{
+	struct uproc *p = arg;
+	Dwarf_Word regs[RTSUP_STACK_REGS];
+	int i;
+
+	for (i = 0; i < RTSUP_STACK_REGS; i++)
+		regs[i] = p->cur->regs[i];
+#if defined(__x86_64__)
+	return dwfl_thread_state_registers(thread, 0, 17, regs);
+#elif defined(__aarch64__)
+	if (!dwfl_thread_state_registers(thread, 0, 32, regs))
+		return false;
+	dwfl_thread_state_register_pc(thread, regs[32]);
+	return true;
+#else
+	return false;
+#endif
+}
+
+static const Dwfl_Thread_Callbacks thread_cbs = {
+	.next_thread = next_thread,
+	.memory_read = memory_read,
+	.set_initial_registers = set_initial_registers,
+};
+
+/* one_frame - dwfl_getthread_frames callback: keep each frame's pc */
+static int one_frame(Dwfl_Frame *state, void *arg)
+{
+	struct uproc *p = arg;
+	Dwarf_Addr pc;
+	bool act;
+
+	if (!dwfl_frame_pc(state, &pc, &act) || !pc)
+		return DWARF_CB_ABORT;
+	p->pcs[p->npcs] = pc;
+	p->act[p->npcs] = act;
+	return ++p->npcs < STACK_MAX_FRAMES ? DWARF_CB_OK : DWARF_CB_ABORT;
+}
+
+/* unwind_dwarf - the frames of a DWARF record, as far as the copy reaches */
+static void unwind_dwarf(struct uproc *p, const struct rtsup_stack_rec *r)
+{
+	if (!p->attached)
+		p->attached = dwfl_attach_state(p->dwfl, NULL, p->tgid, &thread_cbs, p);
+	if (!p->attached)
+		return;
+	p->cur = r;
+	/* an unwind that stops early keeps the frames it found */
+	dwfl_getthread_frames(p->dwfl, r->tid, one_frame, p);
+	p->cur = NULL;
+}
+
+/* ---- symbols ---- */
+
+/* map_flags - FRAME_* of the mapping that holds pc */
+static __u32 map_flags(const struct uproc *p, __u64 pc)
+{
+	int i;
+
+	for (i = 0; i < p->nmaps; i++)
+		if (pc >= p->maps[i].start && pc < p->maps[i].end)
+			return p->flags[i];
+	return 0;
+}
+
+/* symbolize - what is known of one pc; 'act': the exact pc, else a return address */
+static void symbolize(struct uproc *p, __u64 pc, bool act, struct stack_frame *f)
+{
+	Dwarf_Addr look = act ? pc : pc - 1, bias = 0, lineaddr;
+	Dwfl_Module *m = p->dwfl ? dwfl_addrmodule(p->dwfl, look) : NULL;
+	const unsigned char *id;
+	const char *name, *src;
+	GElf_Off off;
+	GElf_Sym sym;
+	Dwfl_Line *l;
+	GElf_Addr vaddr;
+	int n, i;
+
+	memset(f, 0, sizeof(*f));
+	f->pc = pc;
+	if (!m)
+		return;		/* [unknown]: anonymous, JIT, vdso or no file */
+	f->flags = map_flags(p, look);
+	name = dwfl_module_info(m, NULL, NULL, NULL, NULL, NULL, NULL, NULL);
+	snprintf(f->module, sizeof(f->module), "%s", name ? name : "?");
+	if (!dwfl_module_getelf(m, &bias))
+		bias = 0;
+	f->offset = pc - bias;
+	n = dwfl_module_build_id(m, &id, &vaddr);
+	for (i = 0; i < n && i < 20; i++)
+		snprintf(f->build_id + i * 2, 3, "%02x", id[i]);
+	name = dwfl_module_addrinfo(m, look, &off, &sym, NULL, NULL, NULL);
+	if (name)
+		snprintf(f->func, sizeof(f->func), "%s", name);
+	l = dwfl_module_getsrc(m, look);
+	src = l ? dwfl_lineinfo(l, &lineaddr, &f->line, NULL, NULL, NULL) : NULL;
+	if (src)
+		snprintf(f->file, sizeof(f->file), "%s", src);
+	else
+		f->line = 0;
+}
+
+/* record_pc - the pc at the event: the first frame of either kind */
+static __u64 record_pc(const struct rtsup_stack_rec *r)
+{
+	if (r->kind != RTSUP_STACKS_DWARF)
+		return r->ips[0];
+#if defined(__x86_64__)
+	return r->regs[16];
+#elif defined(__aarch64__)
+	return r->regs[32];
+#else
+	return 0;
+#endif
+}
+
+/* in_module - is pc inside a module reported for the process? */
+static bool in_module(const struct uproc *p, __u64 pc)
+{
+	return p->dwfl && dwfl_addrmodule(p->dwfl, pc);
+}
+
+int unwind_record(struct unwinder *u, const struct rtsup_stack_rec *r, size_t len,
+		  struct stack_frame *out, int max)
+{
+	struct uproc *p = uproc_get(u, r->tgid);
+	__u64 first;
+	int i;
+
+	if (!p)
+		return 0;
+	if (r->reason == RTSUP_STACK_EXEC) {
+		/* a new program: its mappings from now on, as far as ld.so got */
+		if (!p->exec_known || p->exec_id != r->exec_id)
+			uproc_load(p);
+		p->exec_known = true;
+		p->exec_id = r->exec_id;
+		return -1;
+	}
+	if (r->kind == RTSUP_STACKS_DWARF &&
+	    (len < sizeof(*r) + r->dump_len || !r->dump_len))
+		return 0;
+	first = record_pc(r);
+	/*
+	 * The mappings read at first sight hold until an exec mark says
+	 * otherwise. One missed (its mark lost), or a module mapped since
+	 * (dlopen): read them again while the process is there. Gone, the
+	 * ones read before are all there is.
+	 */
+	if (!p->exec_known) {
+		p->exec_known = true;
+		p->exec_id = r->exec_id;
+	}
+	if (p->exec_id != r->exec_id || !in_module(p, first)) {
+		char path[32];
+
+		snprintf(path, sizeof(path), "/proc/%u", r->tgid);
+		if (!access(path, F_OK))
+			uproc_load(p);
+		p->exec_id = r->exec_id;
+	}
+	p->npcs = 0;
+	if (r->kind == RTSUP_STACKS_DWARF) {
+		unwind_dwarf(p, r);
+	} else {
+		/* the walk ends at a zero frame pointer's return address */
+		for (i = 0; i < (int)r->nips && i < RTSUP_STACK_DEPTH && i < STACK_MAX_FRAMES &&
+			    r->ips[i]; i++) {
+			p->pcs[i] = r->ips[i];
+			p->act[i] = i == 0;	/* the others are return addresses */
+		}
+		p->npcs = i;
+	}
+	for (i = 0; i < p->npcs && i < max; i++)
+		symbolize(p, p->pcs[i], p->act[i], &out[i]);
+	return i;
+}
+
+void unwinder_free(struct unwinder *u)
+{
+	int i;
+
+	if (!u)
+		return;
+	for (i = 0; i < u->n; i++) {
+		if (u->p[i].dwfl)
+			dwfl_end(u->p[i].dwfl);
+		free(u->p[i].maps);
+		free(u->p[i].flags);
+	}
+	free(u->p);
+	free(u);
+}
