@@ -371,8 +371,18 @@ int unwind_record(struct unwinder *u, const struct rtsup_stack_rec *r, size_t le
 		}
 		p->npcs = i;
 	}
-	for (i = 0; i < p->npcs && i < max; i++)
+	for (i = 0; i < p->npcs && i < max; i++) {
+		/*
+		 * A frame-pointer walk through code built without them reads
+		 * garbage: a return address outside every module ends the
+		 * stack as one "[unknown]" (pc 0), so such stacks still add up
+		 */
+		if (r->kind == RTSUP_STACKS_FP && i && !in_module(p, p->pcs[i] - 1)) {
+			memset(&out[i], 0, sizeof(out[i]));
+			return i + 1;
+		}
 		symbolize(p, p->pcs[i], p->act[i], &out[i]);
+	}
 	return i;
 }
 

@@ -132,8 +132,10 @@ void frame_format(const struct stack_frame *f, char *buf, size_t len)
 	else if (f->module[0])
 		snprintf(buf, len, "%s+0x%llx%s", base(f->module), (unsigned long long)f->offset,
 			 note);
-	else
+	else if (f->pc)
 		snprintf(buf, len, "[unknown] 0x%llx", (unsigned long long)f->pc);
+	else
+		snprintf(buf, len, "[unknown]");
 }
 
 void stack_format(const struct stack_frame *f, int n, const char *sep, char *buf, size_t len)
