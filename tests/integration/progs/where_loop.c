@@ -22,6 +22,7 @@
 
 static long cycles, period_ns, every;
 static volatile long maps, unmaps;
+static volatile pid_t ctrl_tid;
 static volatile char sink;
 
 #ifdef WHERE_RAW_SYSCALL
@@ -103,6 +104,7 @@ static __attribute__((noinline)) void ctrl_loop(void)
 
 static void *ctrl_main(void *arg)
 {
+	ctrl_tid = gettid();
 	ctrl_loop();
 	sink++;
 	return arg;
@@ -124,6 +126,6 @@ int main(int argc, char **argv)
 	pthread_create(&th, NULL, ctrl_main, NULL);
 	pthread_setname_np(th, "ctrl");
 	pthread_join(th, NULL);
-	printf("{\"mmap\": %ld, \"munmap\": %ld}\n", maps, unmaps);
+	printf("{\"tid\": %d, \"mmap\": %ld, \"munmap\": %ld}\n", (int)ctrl_tid, maps, unmaps);
 	return 0;
 }

@@ -1,0 +1,136 @@
+# SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+"""Where in the code (issue 15): the user stack of each RT-unsafe event,
+symbolized, counted per (thread, reason, stack).
+
+progs/where_loop.c maps and unmaps a page from ctrl_update() every other
+cycle of its thread "ctrl" and prints how often it did. Built with frame
+pointers (where_loop_fp) and -O2 -g without them (where_loop_dwarf). The
+truth: the program's own counts, and the source lines marked WHERE_MMAP,
+WHERE_MUNMAP and WHERE_CALL in it.
+"""
+import json
+import shutil
+import subprocess
+
+import pytest
+
+from conftest import BUILD, ROOT, TRACE
+
+pytestmark = pytest.mark.usefixtures("bpf")
+
+SRC = ROOT / "tests" / "integration" / "progs" / "where_loop.c"
+PROGS = {"fp": BUILD / "progs" / "where_loop_fp", "dwarf": BUILD / "progs" / "where_loop_dwarf"}
+CYCLES, PERIOD_US, EVERY = 200, 5000, 2
+
+
+def marker_line(tag):
+    """The source line that carries the /* tag */ comment."""
+    [n] = [i for i, line in enumerate(SRC.read_text().splitlines(), 1) if tag in line]
+    return n
+
+
+def run(prog, stacks, extra=()):
+    """rtsup-trace --stacks over the program: (its truth, the JSON summary)."""
+    r = subprocess.run([str(TRACE), "-j", "--stacks", stacks, *extra, "--", str(prog),
+                        str(CYCLES), str(PERIOD_US), str(EVERY)],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    objs = [json.loads(x) for x in r.stdout.splitlines() if x.startswith("{")]
+    truth = [o for o in objs if "mmap" in o][0]
+    summary = [o for o in objs if o.get("type") == "summary"][0]
+    return truth, summary
+
+
+def ctrl_stacks(truth, summary, syscall):
+    """The stacks of one syscall of the ctrl thread."""
+    [t] = [t for t in summary["threads"] if t["tid"] == truth["tid"]]
+    return t, [s for s in t["stacks"] if s.get("syscall") == syscall]
+
+
+def named(frames):
+    """(function, file name, line) of each frame, what is known of it."""
+    return [(f.get("function"), f.get("file", "").rsplit("/", 1)[-1] or None, f.get("line"))
+            for f in frames]
+
+
+def check_frames(frames, innermost_line):
+    """ctrl_update() at the unsafe call, its caller ctrl_loop() at the call to it."""
+    names = named(frames)
+    fn = [n[0] for n in names]
+    assert "ctrl_update" in fn and "ctrl_loop" in fn, names
+    i = fn.index("ctrl_update")
+    # frame i+1 is ctrl_update's caller: nothing skipped, nothing invented
+    assert fn[i + 1] == "ctrl_loop", names
+    assert names[i] == ("ctrl_update", "where_loop.c", innermost_line), names
+    assert names[i + 1] == ("ctrl_loop", "where_loop.c", marker_line("WHERE_CALL")), names
+
+
+@pytest.mark.parametrize("mode", ["fp", "dwarf"])
+@pytest.mark.parametrize("raw_tp", [False, True], ids=["tp_btf", "raw_tp"])
+def test_mmap_named_with_line_and_counted_exactly(mode, raw_tp):
+    truth, summary = run(PROGS[mode], mode, ["--raw-tp"] if raw_tp else [])
+    assert truth["mmap"] == truth["munmap"] == CYCLES // EVERY
+    health = summary["stack_records"]
+    # none lost: the ring holds a budget's worth, 256 per thread and second
+    assert health["lost"] == health["over_budget"] == health["unreadable"] == 0, health
+    for syscall, tag in (("mmap", "WHERE_MMAP"), ("munmap", "WHERE_MUNMAP")):
+        t, st = ctrl_stacks(truth, summary, syscall)
+        # each call, one stack: the count is the program's own, exactly
+        assert len(st) == 1, [named(s["frames"]) for s in st]
+        assert st[0]["count"] == truth[syscall], st[0]
+        assert t["total"]["unsafe_syscalls"][syscall] == truth[syscall]
+        check_frames(st[0]["frames"], marker_line(tag))
+        if mode == "fp":
+            # the syscall instruction is ours (WHERE_RAW_SYSCALL): in do_mmap/do_munmap
+            assert st[0]["frames"][0]["function"].startswith("do_" + syscall)
+        else:
+            # DWARF unwinds through glibc's wrapper, built without frame pointers
+            assert st[0]["frames"][0]["module"].rsplit("/", 1)[-1].startswith("libc.so")
+
+
+def test_stripped_binary_gives_module_and_offset(tmp_path):
+    """No symbols: module+offset, which addr2line on the unstripped build names."""
+    prog = tmp_path / "where_loop_stripped"
+    shutil.copy(PROGS["dwarf"], prog)
+    subprocess.run(["strip", "-s", str(prog)], check=True)
+    truth, summary = run(prog, "dwarf")
+    _, [st] = ctrl_stacks(truth, summary, "mmap")
+    assert st["count"] == truth["mmap"]
+    ours = [f for f in st["frames"] if f.get("module") == str(prog)]
+    # the .eh_frame survives strip: the unwind still reaches ctrl_loop and main's thread
+    assert len(ours) >= 3, st["frames"]
+    for f in ours:
+        # never a wrong name: without symbols none at all
+        assert "function" not in f and "line" not in f, f
+    # ctrl_update's frame is a return address: the call is the byte before it
+    r = subprocess.run(["addr2line", "-f", "-e", str(PROGS["dwarf"]),
+                        hex(ours[0]["offset"] - 1)], capture_output=True, text=True, check=True)
+    func, where = r.stdout.split()
+    assert func == "ctrl_update" and where.endswith(":%d" % marker_line("WHERE_MMAP")), r.stdout
+
+
+def test_budget_counts_what_it_does_not_capture():
+    """Beyond --stack-budget per thread and interval: counted, not captured."""
+    truth, summary = run(PROGS["dwarf"], "dwarf", ["--stack-budget", "5", "-i", "60s"])
+    [t] = [t for t in summary["threads"] if t["tid"] == truth["tid"]]
+    captured = sum(s["count"] for s in t["stacks"])
+    # one interval for the whole run: the thread's first 5 events only
+    assert captured == 5, t["stacks"]
+    assert summary["stack_records"]["over_budget"] >= truth["mmap"] + truth["munmap"] - 5
+
+
+def test_stacks_off_by_default():
+    r = subprocess.run([str(TRACE), "-j", "--", str(PROGS["dwarf"]), "10", "1000", "2"],
+                       capture_output=True, text=True, timeout=60)
+    summary = [json.loads(x) for x in r.stdout.splitlines() if '"summary"' in x][0]
+    assert "stack_records" not in summary
+    assert all("stacks" not in t for t in summary["threads"])
+
+
+@pytest.mark.parametrize("size", ["100", "1M", "65537", "8K1"])
+def test_bad_stack_size_one_line(size):
+    r = subprocess.run([str(TRACE), "--stacks", "dwarf", "--stack-size", size, "-p", "1"],
+                       capture_output=True, text=True, timeout=30)
+    assert r.returncode == 1
+    assert len(r.stderr.splitlines()) >= 1 and "--stack-size" in r.stderr.splitlines()[0], \
+        r.stderr
