@@ -979,6 +979,25 @@ static __always_inline int on_exit(struct task_struct *task)
 	return 0;
 }
 
+/*
+ * on_fault - --stacks: a target's user page fault inside a cycle, where it
+ * happened. Attached only with --stacks: every user fault on the machine
+ * costs the tidmask load.
+ */
+static __always_inline int on_fault(void)
+{
+	__u32 tid = (__u32)bpf_get_current_pid_tgid();
+	struct rtsup_thread *t = lookup_thread(tid);
+
+	if (!t || t->exited)
+		return 0;
+	settle(t, held_switch_in());
+	/* inside a cycle, as cycle_syscall counts a syscall */
+	if (t->cs.start && !t->cs.in_delim)
+		capture_stack(t, bpf_ktime_get_ns(), RTSUP_STACK_FAULT, 0);
+	return 0;
+}
+
 /* on_signal - a signal is delivered to the current thread */
 static __always_inline int on_signal(int sig)
 {
@@ -1174,8 +1193,17 @@ SEC(kind "/netif_receive_skb")							\
 int BPF_PROG(can_recv_##sfx, const struct sk_buff *skb)				\
 { return BODY(on_can(skb, RTSUP_CAN_RX, btf)); }
 
+/* x86 only: the loader keeps them off elsewhere, and without --stacks */
+#define RTSUP_FAULT_PROGS(kind, sfx)						\
+SEC(kind "/page_fault_user")							\
+int BPF_PROG(page_fault_user_##sfx, unsigned long address, struct pt_regs *regs,	\
+	     unsigned long error_code)						\
+{ return BODY(on_fault()); }
+
 RTSUP_PROGS("tp_btf", btf, 1)
 RTSUP_PROGS("raw_tp", raw, 0)
+RTSUP_FAULT_PROGS("tp_btf", btf)
+RTSUP_FAULT_PROGS("raw_tp", raw)
 RTSUP_CAN_PROGS("tp_btf", btf, 1)
 RTSUP_CAN_PROGS("raw_tp", raw, 0)
 

@@ -321,6 +321,11 @@ struct rtsup_stack_rec {
 
 /* reason of a record without a stack: the process ran a new program (exec) */
 #define RTSUP_STACK_EXEC	RTSUP_U_NR
+/*
+ * reason of a user page fault inside a cycle (x86 exceptions:page_fault_user):
+ * minor or major is known only at the cycle's end, from the task's counters
+ */
+#define RTSUP_STACK_FAULT	(RTSUP_U_NR + 1)
 
 /* A thread's stack records in the current interval (map "stack_budget"). */
 struct rtsup_stack_budget {

@@ -9,6 +9,7 @@ truth: the program's own counts, and the source lines marked WHERE_MMAP,
 WHERE_MUNMAP and WHERE_CALL in it.
 """
 import json
+import platform
 import shutil
 import subprocess
 
@@ -20,7 +21,7 @@ pytestmark = pytest.mark.usefixtures("bpf")
 
 SRC = ROOT / "tests" / "integration" / "progs" / "where_loop.c"
 PROGS = {"fp": BUILD / "progs" / "where_loop_fp", "dwarf": BUILD / "progs" / "where_loop_dwarf"}
-CYCLES, PERIOD_US, EVERY = 200, 5000, 2
+CYCLES, PERIOD_US, EVERY = 200, 5000, 4
 
 
 def marker_line(tag):
@@ -71,8 +72,13 @@ def test_mmap_named_with_line_and_counted_exactly(mode, raw_tp):
     truth, summary = run(PROGS[mode], mode, ["--raw-tp"] if raw_tp else [])
     assert truth["mmap"] == truth["munmap"] == CYCLES // EVERY
     health = summary["stack_records"]
-    # none lost: the ring holds a budget's worth, 256 per thread and second
-    assert health["lost"] == health["over_budget"] == health["unreadable"] == 0, health
+    # none lost: 150 events a second (mmap, its page fault, munmap) stay in the
+    # budget of 256 per thread and interval; the ring holds a budget's worth
+    assert health["lost"] == health["over_budget"] == 0, health
+    # unreadable: DWARF copies from the stack pointer, and a fault on a stack
+    # page not yet there (the thread's stack growing) has nothing to copy;
+    # such a record is counted, and none of the syscalls below is one
+    assert health["unreadable"] <= (2 if mode == "dwarf" else 0), health
     for syscall, tag in (("mmap", "WHERE_MMAP"), ("munmap", "WHERE_MUNMAP")):
         t, st = ctrl_stacks(truth, summary, syscall)
         # each call, one stack: the count is the program's own, exactly
@@ -86,6 +92,24 @@ def test_mmap_named_with_line_and_counted_exactly(mode, raw_tp):
         else:
             # DWARF unwinds through glibc's wrapper, built without frame pointers
             assert st[0]["frames"][0]["module"].rsplit("/", 1)[-1].startswith("libc.so")
+
+
+@pytest.mark.skipif(platform.machine() != "x86_64",
+                    reason="exceptions:page_fault_user is x86's tracepoint")
+@pytest.mark.parametrize("mode", ["fp", "dwarf"])
+def test_page_fault_named_at_the_touch(mode):
+    """The first touch of each fresh page faults once, at WHERE_TOUCH."""
+    truth, summary = run(PROGS[mode], mode)
+    [t] = [t for t in summary["threads"] if t["tid"] == truth["tid"]]
+    touch = [s for s in t["stacks"] if s["reason"] == "page_fault" and s["frames"] and
+             named(s["frames"])[0] == ("ctrl_update", "where_loop.c", marker_line("WHERE_TOUCH"))]
+    # one stack, one fault per page mapped: the program's count exactly
+    assert len(touch) == 1, [named(s["frames"]) for s in t["stacks"]]
+    assert touch[0]["count"] == truth["mmap"]
+    # the fault's pc is exact (no return address): its caller is ctrl_loop
+    assert named(touch[0]["frames"])[1] == ("ctrl_loop", "where_loop.c", marker_line("WHERE_CALL"))
+    # and the cycle counters saw at least those faults
+    assert t["total"]["page_faults"]["minor"] >= truth["mmap"]
 
 
 def test_stripped_binary_gives_module_and_offset(tmp_path):

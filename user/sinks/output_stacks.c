@@ -4,14 +4,22 @@
 #include "model/syscalls.h"
 #include "sinks/output_stacks.h"
 
+/* reason_name - JSON name of a stack's reason: an unsafe reason, or a page fault */
+static const char *reason_name(__u32 reason)
+{
+	return reason == RTSUP_STACK_FAULT ? "page_fault" : unsafe_reason_name(reason);
+}
+
 void stack_what(const struct stack_entry *e, char *buf, size_t len)
 {
 	const char *sys = e->reason == RTSUP_U_SYSCALL ? syscall_name(e->nr) : NULL;
 
 	if (e->reason == RTSUP_U_SYSCALL)
 		snprintf(buf, len, "%s", sys ? sys : "syscall ?");
+	else if (e->reason == RTSUP_STACK_FAULT)
+		snprintf(buf, len, "page fault");
 	else
-		snprintf(buf, len, "%s", unsafe_reason_name(e->reason));
+		snprintf(buf, len, "%s", reason_name(e->reason));
 }
 
 /* comm_of - the thread's name from the model, "?" if it is not there */
@@ -110,7 +118,7 @@ json_t *stacks_json(const struct stackagg *a, __u32 tid, bool window)
 		frames = json_array();
 		for (j = 0; j < e->nframes; j++)
 			json_array_append_new(frames, frame_json(&e->frames[j]));
-		o = json_pack("{s:s,s:I,s:I,s:o}", "reason", unsafe_reason_name(e->reason),
+		o = json_pack("{s:s,s:I,s:I,s:o}", "reason", reason_name(e->reason),
 			      "count", (json_int_t)n, "total", (json_int_t)e->total,
 			      "frames", frames);
 		if (e->reason == RTSUP_U_SYSCALL)

@@ -78,7 +78,7 @@ static __attribute__((noinline)) void ctrl_update(long i)
 	maps++;
 	if (p == MAP_FAILED)
 		return;
-	sink = p[0];
+	sink = p[0];	/* WHERE_TOUCH: a fresh page, one minor fault */
 	/* the result used: no tail call, ctrl_update keeps its frame */
 	if (!do_munmap(p, 4096))	/* WHERE_MUNMAP */
 		unmaps++;
