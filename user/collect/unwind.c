@@ -18,6 +18,19 @@
 #include "collect/procmaps.h"
 #include "collect/unwind.h"
 
+/*
+ * Symbolized frames by pc, direct-mapped: a control loop's unsafe events
+ * come from a few call sites again and again, and libdwfl's lookups of
+ * symbol and line cost tens of microseconds per frame.
+ */
+#define SYMCACHE_SIZE 512
+
+struct symcache {
+	__u64 pc;		/* 0: empty */
+	bool act;
+	struct stack_frame f;
+};
+
 /* One target process: its mappings and a libdwfl session over them. */
 struct uproc {
 	__u32 tgid;
@@ -33,6 +46,7 @@ struct uproc {
 	__u64 pcs[STACK_MAX_FRAMES];
 	bool act[STACK_MAX_FRAMES];	/* the exact pc, not a return address */
 	int npcs;
+	struct symcache *cache;	/* SYMCACHE_SIZE, emptied when the mappings change */
 };
 
 struct unwinder {
@@ -111,6 +125,8 @@ static int uproc_load(struct uproc *p)
 	p->nmaps = n;
 	p->flags = calloc(n ? n : 1, sizeof(*p->flags));
 	p->attached = false;
+	if (p->cache)
+		memset(p->cache, 0, SYMCACHE_SIZE * sizeof(*p->cache));
 	p->dwfl = dwfl_begin(&dwfl_cbs);
 	if (!p->dwfl || !p->flags)
 		return -ENOMEM;
@@ -164,6 +180,7 @@ static struct uproc *uproc_get(struct unwinder *u, __u32 tgid)
 	p = &u->p[u->n++];
 	memset(p, 0, sizeof(*p));
 	p->tgid = tgid;
+	p->cache = calloc(SYMCACHE_SIZE, sizeof(*p->cache));
 	uproc_load(p);
 	return p;
 }
@@ -314,6 +331,23 @@ static __u64 record_pc(const struct rtsup_stack_rec *r)
 #endif
 }
 
+/* symbolize_cached - symbolize, once per pc while the mappings hold */
+static void symbolize_cached(struct uproc *p, __u64 pc, bool act, struct stack_frame *f)
+{
+	struct symcache *c = p->cache ? &p->cache[(pc * 0x9e3779b97f4a7c15ULL) >> 55] : NULL;
+
+	if (c && c->pc == pc && c->act == act) {
+		*f = c->f;
+		return;
+	}
+	symbolize(p, pc, act, f);
+	if (c) {
+		c->pc = pc;
+		c->act = act;
+		c->f = *f;
+	}
+}
+
 /* in_module - is pc inside a module reported for the process? */
 static bool in_module(const struct uproc *p, __u64 pc)
 {
@@ -381,7 +415,7 @@ int unwind_record(struct unwinder *u, const struct rtsup_stack_rec *r, size_t le
 			memset(&out[i], 0, sizeof(out[i]));
 			return i + 1;
 		}
-		symbolize(p, p->pcs[i], p->act[i], &out[i]);
+		symbolize_cached(p, p->pcs[i], p->act[i], &out[i]);
 	}
 	return i;
 }
@@ -397,6 +431,7 @@ void unwinder_free(struct unwinder *u)
 			dwfl_end(u->p[i].dwfl);
 		free(u->p[i].maps);
 		free(u->p[i].flags);
+		free(u->p[i].cache);
 	}
 	free(u->p);
 	free(u);

@@ -3,7 +3,7 @@
  * where_loop - a periodic control thread that maps memory from a known
  * function inside its cycle, for tests/integration/test_where.py.
  *
- * where_loop CYCLES PERIOD_US EVERY: the thread "ctrl" runs CYCLES cycles to
+ * where_loop CYCLES PERIOD_US EVERY [LINGER_S]: the thread "ctrl" runs CYCLES cycles to
  * absolute releases; every EVERY-th cycle ctrl_update() maps and unmaps a
  * page. At the end it prints its own counts as JSON: the truth the test
  * compares the reported stacks with. Built twice by the Makefile: with
@@ -22,6 +22,9 @@
 
 static long cycles, period_ns, every;
 static volatile long maps, unmaps;
+/* time in each mmap, ns: scripts/stack-cost compares --stacks modes by the median */
+#define MAX_SAMPLES 65536
+static long mmap_ns[MAX_SAMPLES];
 static volatile pid_t ctrl_tid;
 static volatile char sink;
 
@@ -70,11 +73,16 @@ static __attribute__((noinline)) int do_munmap(void *p, size_t len)
 /* ctrl_update - the cycle's work; allocates where it should not */
 static __attribute__((noinline)) void ctrl_update(long i)
 {
+	struct timespec t0, t1;
 	char *p;
 
 	if (i % every)
 		return;
+	clock_gettime(CLOCK_MONOTONIC, &t0);
 	p = do_mmap(4096);	/* WHERE_MMAP */
+	clock_gettime(CLOCK_MONOTONIC, &t1);
+	if (maps < MAX_SAMPLES)
+		mmap_ns[maps] = (t1.tv_sec - t0.tv_sec) * 1000000000L + t1.tv_nsec - t0.tv_nsec;
 	maps++;
 	if (p == MAP_FAILED)
 		return;
@@ -102,6 +110,20 @@ static __attribute__((noinline)) void ctrl_loop(void)
 	}
 }
 
+static int cmp_long(const void *a, const void *b)
+{
+	return *(const long *)a < *(const long *)b ? -1 : *(const long *)a > *(const long *)b;
+}
+
+/* median - of the first n samples (sorts them) */
+static long median(long *v, long n)
+{
+	if (!n)
+		return 0;
+	qsort(v, n, sizeof(*v), cmp_long);
+	return v[n / 2];
+}
+
 static void *ctrl_main(void *arg)
 {
 	ctrl_tid = gettid();
@@ -114,8 +136,8 @@ int main(int argc, char **argv)
 {
 	pthread_t th;
 
-	if (argc != 4) {
-		fprintf(stderr, "usage: where_loop CYCLES PERIOD_US EVERY\n");
+	if (argc != 4 && argc != 5) {
+		fprintf(stderr, "usage: where_loop CYCLES PERIOD_US EVERY [LINGER_S]\n");
 		return 1;
 	}
 	cycles = atol(argv[1]);
@@ -126,6 +148,11 @@ int main(int argc, char **argv)
 	pthread_create(&th, NULL, ctrl_main, NULL);
 	pthread_setname_np(th, "ctrl");
 	pthread_join(th, NULL);
-	printf("{\"tid\": %d, \"mmap\": %ld, \"munmap\": %ld}\n", (int)ctrl_tid, maps, unmaps);
+	printf("{\"tid\": %d, \"mmap\": %ld, \"munmap\": %ld, \"mmap_ns\": %ld}\n",
+	       (int)ctrl_tid, maps, unmaps, median(mmap_ns, maps < MAX_SAMPLES ? maps : MAX_SAMPLES));
+	fflush(stdout);
+	/* scripts/stack-cost reads the programs' statistics while we linger */
+	if (argc == 5)
+		sleep(atoi(argv[4]));
 	return 0;
 }
