@@ -40,6 +40,7 @@ struct uproc {
 	Dwfl *dwfl;
 	bool attached;		/* dwfl_attach_state done */
 	bool exec_known;	/* exec_id is the one the mappings were read in */
+	bool fresh_exec;	/* read at an exec mark: ld.so may still be mapping */
 	__u32 exec_id;
 	/* the record being unwound, for the thread callbacks */
 	const struct rtsup_stack_rec *cur;
@@ -117,6 +118,11 @@ static int uproc_load(struct uproc *p)
 	fclose(f);
 	if (n < 0)
 		return -ENOMEM;
+	/* a zombie has no mappings: what was read before is all there is */
+	if (!n) {
+		free(maps);
+		return -ESRCH;
+	}
 	if (p->dwfl)
 		dwfl_end(p->dwfl);
 	free(p->maps);
@@ -254,17 +260,24 @@ static int one_frame(Dwfl_Frame *state, void *arg)
 	return ++p->npcs < STACK_MAX_FRAMES ? DWARF_CB_OK : DWARF_CB_ABORT;
 }
 
-/* unwind_dwarf - the frames of a DWARF record, as far as the copy reaches */
-static void unwind_dwarf(struct uproc *p, const struct rtsup_stack_rec *r)
+/*
+ * unwind_dwarf - the frames of a DWARF record, as far as the copy reaches;
+ * -1 when libdwfl failed before the outermost frame
+ */
+static int unwind_dwarf(struct uproc *p, const struct rtsup_stack_rec *r)
 {
+	int err;
+
 	if (!p->attached)
 		p->attached = dwfl_attach_state(p->dwfl, NULL, p->tgid, &thread_cbs, p);
-	if (!p->attached)
-		return;
+	if (!p->attached) {
+		return -1;
+	}
 	p->cur = r;
 	/* an unwind that stops early keeps the frames it found */
-	dwfl_getthread_frames(p->dwfl, r->tid, one_frame, p);
+	err = dwfl_getthread_frames(p->dwfl, r->tid, one_frame, p);
 	p->cur = NULL;
+	return err < 0 ? -1 : 0;
 }
 
 /* ---- symbols ---- */
@@ -348,6 +361,15 @@ static void symbolize_cached(struct uproc *p, __u64 pc, bool act, struct stack_f
 	}
 }
 
+/* alive - is the process still there to read its mappings? */
+static bool alive(__u32 tgid)
+{
+	char path[32];
+
+	snprintf(path, sizeof(path), "/proc/%u", tgid);
+	return !access(path, F_OK);
+}
+
 /* in_module - is pc inside a module reported for the process? */
 static bool in_module(const struct uproc *p, __u64 pc)
 {
@@ -367,6 +389,7 @@ int unwind_record(struct unwinder *u, const struct rtsup_stack_rec *r, size_t le
 		/* a new program: its mappings from now on, as far as ld.so got */
 		if (!p->exec_known || p->exec_id != r->exec_id)
 			uproc_load(p);
+		p->fresh_exec = true;
 		p->exec_known = true;
 		p->exec_id = r->exec_id;
 		return -1;
@@ -385,17 +408,23 @@ int unwind_record(struct unwinder *u, const struct rtsup_stack_rec *r, size_t le
 		p->exec_known = true;
 		p->exec_id = r->exec_id;
 	}
-	if (p->exec_id != r->exec_id || !in_module(p, first)) {
-		char path[32];
-
-		snprintf(path, sizeof(path), "/proc/%u", r->tgid);
-		if (!access(path, F_OK))
+	if (p->exec_id != r->exec_id || !in_module(p, first) || p->fresh_exec) {
+		if (alive(r->tgid))
 			uproc_load(p);
 		p->exec_id = r->exec_id;
+		p->fresh_exec = false;
 	}
 	p->npcs = 0;
 	if (r->kind == RTSUP_STACKS_DWARF) {
-		unwind_dwarf(p, r);
+		/*
+		 * libdwfl found no CFI for the first pcs: mappings read while
+		 * ld.so was still at work, say. Read them again, once, while it
+		 * is there. (A stack that ends early keeps what it found.)
+		 */
+		if (unwind_dwarf(p, r) && p->npcs < 2 && alive(r->tgid) && !uproc_load(p)) {
+			p->npcs = 0;
+			unwind_dwarf(p, r);
+		}
 	} else {
 		/* the walk ends at a zero frame pointer's return address */
 		for (i = 0; i < (int)r->nips && i < RTSUP_STACK_DEPTH && i < STACK_MAX_FRAMES &&

@@ -5,7 +5,8 @@
  *
  * where_loop CYCLES PERIOD_US EVERY [LINGER_S]: the thread "ctrl" runs CYCLES cycles to
  * absolute releases; every EVERY-th cycle ctrl_update() maps and unmaps a
- * page. At the end it prints its own counts as JSON: the truth the test
+ * page. At the end it prints its own counts as JSON on stderr (stdout is
+ * the tracer's, whose long JSON lines it would split): the truth the test
  * compares the reported stacks with. Built twice by the Makefile: with
  * frame pointers (where_loop_fp, WHERE_RAW_SYSCALL: the mmap is a syscall
  * made in this file, so no frameless libc wrapper hides the caller) and
@@ -148,9 +149,8 @@ int main(int argc, char **argv)
 	pthread_create(&th, NULL, ctrl_main, NULL);
 	pthread_setname_np(th, "ctrl");
 	pthread_join(th, NULL);
-	printf("{\"tid\": %d, \"mmap\": %ld, \"munmap\": %ld, \"mmap_ns\": %ld}\n",
-	       (int)ctrl_tid, maps, unmaps, median(mmap_ns, maps < MAX_SAMPLES ? maps : MAX_SAMPLES));
-	fflush(stdout);
+	fprintf(stderr, "{\"tid\": %d, \"mmap\": %ld, \"munmap\": %ld, \"mmap_ns\": %ld}\n",
+		(int)ctrl_tid, maps, unmaps, median(mmap_ns, maps < MAX_SAMPLES ? maps : MAX_SAMPLES));
 	/* scripts/stack-cost reads the programs' statistics while we linger */
 	if (argc == 5)
 		sleep(atoi(argv[4]));
