@@ -44,7 +44,7 @@ UNIT_BINS := $(patsubst %.c,$(OUT)/tests/%,$(notdir $(UNIT_SRCS)))
 
 all: $(OUT)/rtsup-trace $(OUT)/rtsup-loadgen $(OUT)/rtsup-cansim $(OUT)/rtsup-noise \
      $(OUT)/progs/usleep_loop $(OUT)/progs/timerfd_loop $(OUT)/progs32/abi32_loop \
-     $(OUT)/progs/where_loop_fp $(OUT)/progs/where_loop_dwarf
+     $(OUT)/progs/where_loop_fp $(OUT)/progs/where_loop_dwarf $(OUT)/progs/where_loop_lib
 
 $(OUT) $(OUT)/tests:
 	$(Q)mkdir -p $@
@@ -128,6 +128,18 @@ $(OUT)/progs/where_loop_dwarf: tests/integration/progs/where_loop.c
 	@mkdir -p $(@D)
 	$(call msg,CC,$@)
 	$(Q)$(CC) -O2 -g -fomit-frame-pointer $(WARN) $< -lpthread -o $@
+
+$(OUT)/progs/libwhere.so: tests/integration/progs/where_lib.c
+	@mkdir -p $(@D)
+	$(call msg,CC,$@)
+	$(Q)$(CC) -O2 -g -fPIC -shared $(WARN) $< -o $@
+
+# the unsafe calls inside a shared library of ours, found next to the program
+$(OUT)/progs/where_loop_lib: tests/integration/progs/where_loop.c $(OUT)/progs/libwhere.so
+	@mkdir -p $(@D)
+	$(call msg,CC,$@)
+	$(Q)$(CC) -O2 -g -DWHERE_LIB $(WARN) $< -L$(OUT)/progs -lwhere -Wl,-rpath,'$$ORIGIN' \
+		-lpthread -o $@
 
 # The same, built for the 32-bit ABI (gcc-multilib): other syscall numbers.
 $(OUT)/progs32/%: tests/integration/progs/%.c

@@ -20,13 +20,15 @@ from conftest import BUILD, ROOT, TRACE
 pytestmark = pytest.mark.usefixtures("bpf")
 
 SRC = ROOT / "tests" / "integration" / "progs" / "where_loop.c"
-PROGS = {"fp": BUILD / "progs" / "where_loop_fp", "dwarf": BUILD / "progs" / "where_loop_dwarf"}
+PROGS = {"fp": BUILD / "progs" / "where_loop_fp", "dwarf": BUILD / "progs" / "where_loop_dwarf",
+         "lib": BUILD / "progs" / "where_loop_lib"}
+LIB_SRC = ROOT / "tests" / "integration" / "progs" / "where_lib.c"
 CYCLES, PERIOD_US, EVERY = 200, 5000, 4
 
 
-def marker_line(tag):
+def marker_line(tag, src=SRC):
     """The source line that carries the /* tag */ comment."""
-    [n] = [i for i, line in enumerate(SRC.read_text().splitlines(), 1) if tag in line]
+    [n] = [i for i, line in enumerate(src.read_text().splitlines(), 1) if tag in line]
     return n
 
 
@@ -114,6 +116,23 @@ def test_page_fault_named_at_the_touch(mode):
     assert named(touch[0]["frames"])[1] == ("ctrl_loop", "where_loop.c", marker_line("WHERE_CALL"))
     # and the cycle counters saw at least those faults
     assert t["total"]["page_faults"]["minor"] >= truth["mmap"]
+
+
+def test_shared_library_frames_named():
+    """The unsafe call inside a .so of ours: its frame and the program's, both named."""
+    truth, summary = run(PROGS["lib"], "dwarf")
+    for syscall, lib_fn, lib_tag, tag in (("mmap", "lib_map", "LIB_MMAP", "WHERE_MMAP"),
+                                          ("munmap", "lib_unmap", "LIB_MUNMAP", "WHERE_MUNMAP")):
+        _, st = ctrl_stacks(truth, summary, syscall)
+        assert len(st) == 1 and st[0]["count"] == truth[syscall], st
+        frames = st[0]["frames"]
+        names = named(frames)
+        i = [n[0] for n in names].index(lib_fn)
+        assert names[i] == (lib_fn, "where_lib.c", marker_line(lib_tag, LIB_SRC)), names
+        assert frames[i]["module"].endswith("/libwhere.so"), frames[i]
+        # its caller, in the program: nothing skipped between the two modules
+        assert names[i + 1] == ("ctrl_update", "where_loop.c", marker_line(tag)), names
+        assert frames[i + 1]["module"] == str(PROGS["lib"]), frames[i + 1]
 
 
 def test_stripped_binary_gives_module_and_offset(tmp_path):

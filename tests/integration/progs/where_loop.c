@@ -10,7 +10,8 @@
  * compares the reported stacks with. Built twice by the Makefile: with
  * frame pointers (where_loop_fp, WHERE_RAW_SYSCALL: the mmap is a syscall
  * made in this file, so no frameless libc wrapper hides the caller) and
- * -O2 -g without them (where_loop_dwarf, through glibc's mmap).
+ * -O2 -g without them (where_loop_dwarf, through glibc's mmap), and so with
+ * the calls inside a shared library of ours (where_loop_lib, WHERE_LIB).
  */
 #define _GNU_SOURCE
 #include <pthread.h>
@@ -66,6 +67,12 @@ static __attribute__((noinline)) int do_munmap(void *p, size_t len)
 	raw_done();
 	return ret;
 }
+#elif defined(WHERE_LIB)
+/* where_loop_lib: the calls are made inside libwhere.so (where_lib.c) */
+void *lib_map(size_t len);
+int lib_unmap(void *p, size_t len);
+#define do_mmap(len) (lib_map(len) ?: MAP_FAILED)
+#define do_munmap(p, len) lib_unmap(p, len)
 #else
 #define do_mmap(len) mmap(NULL, len, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0)
 #define do_munmap(p, len) munmap(p, len)
