@@ -181,3 +181,14 @@ def test_bad_stack_size_one_line(size):
     assert r.returncode == 1
     assert len(r.stderr.splitlines()) >= 1 and "--stack-size" in r.stderr.splitlines()[0], \
         r.stderr
+
+
+def test_perfetto_shows_the_stack(tmp_path):
+    """--perfetto: an instant event per captured stack, the frames in its args."""
+    pf = tmp_path / "where.json"
+    truth, _ = run(PROGS["dwarf"], "dwarf", ["--perfetto", str(pf)])
+    ev = [e for e in json.loads(pf.read_text())["traceEvents"]
+          if e.get("name") == "where: mmap" and e["tid"] == truth["tid"]]
+    assert len(ev) == truth["mmap"]
+    assert all("<- ctrl_update() where_loop.c:%d\n" % marker_line("WHERE_MMAP")
+               in e["args"]["stack"] for e in ev), ev[0]

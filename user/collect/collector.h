@@ -45,6 +45,9 @@ struct collector {
 	/* sinks that want every cycle and event as it comes (--record, --perfetto) */
 	void (*on_cycle)(void *ctx, const struct rtsup_cycle_rec *r);
 	void (*on_rare)(void *ctx, const struct rtsup_event *e);
+	/* --stacks: each stack record, symbolized (reason and nr as in stackagg) */
+	void (*on_stack)(void *ctx, const struct rtsup_stack_rec *r,
+			 const struct stack_frame *f, int n);
 	void *sink_ctx;
 };
 

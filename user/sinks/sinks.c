@@ -8,6 +8,7 @@
 #include <time.h>
 #include <unistd.h>
 #include "sinks/sinks.h"
+#include "sinks/output_stacks.h"
 
 /* read_file - a whole small text file, malloc'd; NULL if unreadable */
 static char *read_file(const char *path)
@@ -93,6 +94,21 @@ static void sink_event(void *ctx, const struct rtsup_event *e)
 		sk->failed = true;
 }
 
+/* sink_stack - collector callback: a symbolized stack on Perfetto's event track */
+static void sink_stack(void *ctx, const struct rtsup_stack_rec *r, const struct stack_frame *f,
+		       int n)
+{
+	struct sinks *sk = ctx;
+	struct stack_entry e = { .reason = r->reason, .nr = r->nr };
+	char what[64], text[4096];
+
+	if (!sk->pf)
+		return;
+	stack_what(&e, what, sizeof(what));
+	stack_format(f, n, "\n<- ", text, sizeof(text));
+	perfetto_stack(sk->pf, r->ts, r->tgid, r->tid, what, text);
+}
+
 /* header - where and when, and the configuration */
 static void header(struct rec_header *h, const struct options *o, const struct supervisor *s,
 		   const struct collector *c)
@@ -136,6 +152,7 @@ int sinks_open(struct sinks *sk, const struct options *o, const struct superviso
 	}
 	c->on_cycle = sink_cycle;
 	c->on_rare = sink_event;
+	c->on_stack = sink_stack;
 	c->sink_ctx = sk;
 	return 0;
 }
