@@ -192,3 +192,45 @@ def test_perfetto_shows_the_stack(tmp_path):
     assert len(ev) == truth["mmap"]
     assert all("<- ctrl_update() where_loop.c:%d\n" % marker_line("WHERE_MMAP")
                in e["args"]["stack"] for e in ev), ev[0]
+
+
+def test_replay_gives_the_same_stacks(tmp_path):
+    """--record keeps the stacks' pcs and the mappings; replay symbolizes them again."""
+    rec = tmp_path / "where.rtsup"
+    truth, live = run(PROGS["dwarf"], "dwarf", ["--record", str(rec)])
+    r = subprocess.run([str(TRACE), "replay", str(rec), "-j"], capture_output=True, text=True,
+                       timeout=60)
+    assert r.returncode == 0, r.stderr
+    replayed = [json.loads(x) for x in r.stdout.splitlines() if '"summary"' in x][0]
+
+    def stacks(summary):
+        return sorted((t["tid"], s["reason"], s.get("syscall", ""), s["count"],
+                       repr(named(s["frames"]))) for t in summary["threads"]
+                      for s in t.get("stacks", []))
+    assert stacks(replayed) == stacks(live)
+    _, [st] = ctrl_stacks(truth, replayed, "mmap")
+    assert st["count"] == truth["mmap"]
+    check_frames(st["frames"], marker_line("WHERE_MMAP"))
+
+
+def test_replay_with_another_build_names_nothing_wrong(tmp_path):
+    """At replay the program's path holds another build: its frames keep module,
+    offset and the recorded build-id, and name no function."""
+    prog, rec = tmp_path / "where_loop", tmp_path / "where.rtsup"
+    shutil.copy(PROGS["dwarf"], prog)
+    truth, live = run(prog, "dwarf", ["--record", str(rec)])
+    _, [lst] = ctrl_stacks(truth, live, "mmap")
+    shutil.copy(PROGS["fp"], prog)	# another build at the same path
+    r = subprocess.run([str(TRACE), "replay", str(rec), "-j"], capture_output=True, text=True,
+                       timeout=60)
+    replayed = [json.loads(x) for x in r.stdout.splitlines() if '"summary"' in x][0]
+    _, [st] = ctrl_stacks(truth, replayed, "mmap")
+    assert st["count"] == truth["mmap"]
+    ours = [f for f in st["frames"] if f.get("module") == str(prog)]
+    live_ours = [f for f in lst["frames"] if f.get("module") == str(prog)]
+    assert len(ours) == len(live_ours) >= 3, st["frames"]
+    for f, lf in zip(ours, live_ours):
+        assert "function" not in f and "line" not in f, f
+        assert f["offset"] == lf["offset"] and f["build_id"] == lf["build_id"], (f, lf)
+    # libc is the same build here: still named
+    assert st["frames"][0]["function"] == lst["frames"][0]["function"]

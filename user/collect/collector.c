@@ -81,8 +81,12 @@ static int on_stack_rec(void *ctx, void *data, size_t len)
 		return 0;	/* an exec mark: no event */
 	c->stacks.records++;
 	stackagg_add(&c->stacks, r->tid, r->tgid, NULL, r->reason, r->nr, frames, n);
-	if (c->on_stack)
-		c->on_stack(c->sink_ctx, r, frames, n);
+	if (c->on_stack) {
+		struct stack_maps m;
+
+		unwind_maps(c->unwinder, r->tgid, &m);
+		c->on_stack(c->sink_ctx, r, frames, n, &m);
+	}
 	return 0;
 }
 

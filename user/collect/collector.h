@@ -16,6 +16,7 @@
 struct rtsup_bpf;
 struct ring_buffer;
 struct unwinder;
+struct stack_maps;
 
 /* Thread map entries per read at first: 64 entries of ~5 KiB. */
 #define COLLECTOR_BATCH 64
@@ -47,7 +48,7 @@ struct collector {
 	void (*on_rare)(void *ctx, const struct rtsup_event *e);
 	/* --stacks: each stack record, symbolized (reason and nr as in stackagg) */
 	void (*on_stack)(void *ctx, const struct rtsup_stack_rec *r,
-			 const struct stack_frame *f, int n);
+			 const struct stack_frame *f, int n, const struct stack_maps *m);
 	void *sink_ctx;
 };
 

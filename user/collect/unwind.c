@@ -47,6 +47,10 @@ struct uproc {
 	__u64 pcs[STACK_MAX_FRAMES];
 	bool act[STACK_MAX_FRAMES];	/* the exact pc, not a return address */
 	int npcs;
+	char (*bids)[48];	/* build-id per mapping, hex */
+	__u32 gen;		/* the set of mappings: bumped at each new one */
+	bool offline;		/* replay: mappings from the recording, files checked */
+	bool dirty;		/* offline: mappings added since libdwfl was told */
 	struct symcache *cache;	/* SYMCACHE_SIZE, emptied when the mappings change */
 };
 
@@ -102,12 +106,89 @@ static bool replaced(int map_fd, const char *path)
 	return a[0] && strcmp(a, b);
 }
 
+/* uproc_set_maps - a new set of mappings; what libdwfl knew goes with the old */
+static int uproc_set_maps(struct uproc *p, struct procmap *maps, int n)
+{
+	if (p->dwfl)
+		dwfl_end(p->dwfl);
+	p->dwfl = NULL;
+	free(p->maps);
+	free(p->flags);
+	free(p->bids);
+	p->maps = maps;
+	p->nmaps = n;
+	p->flags = calloc(n ? n : 1, sizeof(*p->flags));
+	p->bids = calloc(n ? n : 1, sizeof(*p->bids));
+	p->attached = false;
+	p->gen++;
+	if (p->cache)
+		memset(p->cache, 0, SYMCACHE_SIZE * sizeof(*p->cache));
+	return p->flags && p->bids ? 0 : -ENOMEM;
+}
+
+/*
+ * uproc_report - the mappings as libdwfl modules. Live: each read through
+ * /proc/PID/map_files/, the mapped inode whatever is at its path now.
+ * Offline (replay): the file at the path, only if its build-id is the
+ * recorded one; otherwise the frames stay module+offset.
+ */
+static int uproc_report(struct uproc *p)
+{
+	char path[64], bid[48];
+	int i, j, fd;
+
+	p->dwfl = dwfl_begin(&dwfl_cbs);
+	if (!p->dwfl)
+		return -ENOMEM;
+	dwfl_report_begin(p->dwfl);
+	for (i = 0; i < p->nmaps; i++) {
+		struct procmap *m = &p->maps[i];
+
+		/* a file mapped twice executable is one module */
+		for (j = 0; j < i; j++)
+			if (!strcmp(p->maps[j].path, m->path))
+				break;
+		if (j < i) {
+			if (!p->offline) {
+				p->flags[i] = p->flags[j];
+				memcpy(p->bids[i], p->bids[j], sizeof(p->bids[i]));
+			}
+			continue;
+		}
+		if (p->offline) {
+			fd = open(m->path, O_RDONLY | O_CLOEXEC);
+			build_id_of(fd, bid, sizeof(bid));
+			if (fd >= 0 && p->bids[i][0] && strcmp(bid, p->bids[i])) {
+				close(fd);	/* another build here: no names from it */
+				continue;
+			}
+		} else {
+			snprintf(path, sizeof(path), "/proc/%u/map_files/%llx-%llx", p->tgid,
+				 (unsigned long long)m->start, (unsigned long long)m->end);
+			fd = open(path, O_RDONLY | O_CLOEXEC);
+			build_id_of(fd, p->bids[i], sizeof(p->bids[i]));
+			if (m->deleted)
+				p->flags[i] |= FRAME_DELETED;
+			else if (fd >= 0 && replaced(fd, m->path))
+				p->flags[i] |= FRAME_REPLACED;
+		}
+		if (fd < 0 && (m->deleted || p->offline))
+			continue;	/* nothing to read it from: module+offset */
+		/* libdwfl owns fd on success */
+		if (!dwfl_report_elf(p->dwfl, m->path, m->path, fd, m->start - m->pgoff, false) &&
+		    fd >= 0)
+			close(fd);
+	}
+	dwfl_report_end(p->dwfl, NULL, NULL);
+	return 0;
+}
+
 /* uproc_load - (re)read the mappings and report them as libdwfl modules */
 static int uproc_load(struct uproc *p)
 {
 	char path[64];
 	FILE *f;
-	int i, j, fd, n;
+	int n;
 	struct procmap *maps;
 
 	snprintf(path, sizeof(path), "/proc/%u/maps", p->tgid);
@@ -123,46 +204,7 @@ static int uproc_load(struct uproc *p)
 		free(maps);
 		return -ESRCH;
 	}
-	if (p->dwfl)
-		dwfl_end(p->dwfl);
-	free(p->maps);
-	free(p->flags);
-	p->maps = maps;
-	p->nmaps = n;
-	p->flags = calloc(n ? n : 1, sizeof(*p->flags));
-	p->attached = false;
-	if (p->cache)
-		memset(p->cache, 0, SYMCACHE_SIZE * sizeof(*p->cache));
-	p->dwfl = dwfl_begin(&dwfl_cbs);
-	if (!p->dwfl || !p->flags)
-		return -ENOMEM;
-	dwfl_report_begin(p->dwfl);
-	for (i = 0; i < n; i++) {
-		/* a file mapped twice executable is one module */
-		for (j = 0; j < i; j++)
-			if (!strcmp(maps[j].path, maps[i].path))
-				break;
-		if (j < i) {
-			p->flags[i] = p->flags[j];
-			continue;
-		}
-		/* the mapped inode itself, whatever is at the path now */
-		snprintf(path, sizeof(path), "/proc/%u/map_files/%llx-%llx", p->tgid,
-			 (unsigned long long)maps[i].start, (unsigned long long)maps[i].end);
-		fd = open(path, O_RDONLY | O_CLOEXEC);
-		if (maps[i].deleted)
-			p->flags[i] |= FRAME_DELETED;
-		else if (fd >= 0 && replaced(fd, maps[i].path))
-			p->flags[i] |= FRAME_REPLACED;
-		if (fd < 0 && maps[i].deleted)
-			continue;	/* nothing to read it from: module+offset unknown */
-		/* libdwfl owns fd on success */
-		if (!dwfl_report_elf(p->dwfl, maps[i].path, maps[i].path, fd,
-				     maps[i].start - maps[i].pgoff, false) && fd >= 0)
-			close(fd);
-	}
-	dwfl_report_end(p->dwfl, NULL, NULL);
-	return 0;
+	return uproc_set_maps(p, maps, n) ?: uproc_report(p);
 }
 
 /* uproc_get - the process's entry; its mappings are read at first sight */
@@ -293,6 +335,28 @@ static __u32 map_flags(const struct uproc *p, __u64 pc)
 	return 0;
 }
 
+/*
+ * map_only - a pc in a mapping libdwfl has no module for (the file gone, or
+ * another build at replay): its path, offset and build-id; else [unknown]
+ * (anonymous code, JIT, the vDSO)
+ */
+static void map_only(const struct uproc *p, __u64 look, struct stack_frame *f)
+{
+	int i;
+
+	for (i = 0; i < p->nmaps; i++) {
+		const struct procmap *m = &p->maps[i];
+
+		if (look < m->start || look >= m->end)
+			continue;
+		snprintf(f->module, sizeof(f->module), "%s", m->path);
+		f->offset = f->pc - (m->start - m->pgoff);
+		snprintf(f->build_id, sizeof(f->build_id), "%s", p->bids[i]);
+		f->flags = p->flags[i];
+		return;
+	}
+}
+
 /* symbolize - what is known of one pc; 'act': the exact pc, else a return address */
 static void symbolize(struct uproc *p, __u64 pc, bool act, struct stack_frame *f)
 {
@@ -308,8 +372,10 @@ static void symbolize(struct uproc *p, __u64 pc, bool act, struct stack_frame *f
 
 	memset(f, 0, sizeof(*f));
 	f->pc = pc;
-	if (!m)
-		return;		/* [unknown]: anonymous, JIT, vdso or no file */
+	if (!m) {
+		map_only(p, look, f);	/* what the mapping says, or [unknown] */
+		return;
+	}
 	f->flags = map_flags(p, look);
 	name = dwfl_module_info(m, NULL, NULL, NULL, NULL, NULL, NULL, NULL);
 	snprintf(f->module, sizeof(f->module), "%s", name ? name : "?");
@@ -449,6 +515,105 @@ int unwind_record(struct unwinder *u, const struct rtsup_stack_rec *r, size_t le
 	return i;
 }
 
+int unwind_maps(struct unwinder *u, __u32 tgid, struct stack_maps *m)
+{
+	int i;
+
+	memset(m, 0, sizeof(*m));
+	for (i = 0; i < u->n; i++) {
+		if (u->p[i].tgid != tgid)
+			continue;
+		m->maps = u->p[i].maps;
+		m->flags = u->p[i].flags;
+		m->bids = (const char (*)[48])u->p[i].bids;
+		m->gen = u->p[i].gen;
+		m->n = u->p[i].nmaps;
+		return m->n;
+	}
+	return 0;
+}
+
+/* uproc_offline - a process of the recording, created empty */
+static struct uproc *uproc_offline(struct unwinder *u, __u32 tgid)
+{
+	struct uproc *p;
+	int i;
+
+	for (i = 0; i < u->n; i++)
+		if (u->p[i].tgid == tgid)
+			return &u->p[i];
+	if (u->n == u->cap) {
+		int cap = u->cap ? u->cap * 2 : 8;
+		struct uproc *np = realloc(u->p, cap * sizeof(*np));
+
+		if (!np)
+			return NULL;
+		u->p = np;
+		u->cap = cap;
+	}
+	p = &u->p[u->n++];
+	memset(p, 0, sizeof(*p));
+	p->tgid = tgid;
+	p->offline = true;
+	p->gen = ~0U;
+	p->cache = calloc(SYMCACHE_SIZE, sizeof(*p->cache));
+	return p;
+}
+
+void unwind_offline_map(struct unwinder *u, __u32 tgid, __u32 gen, const struct procmap *m,
+			__u32 flags, const char *build_id)
+{
+	struct uproc *p = uproc_offline(u, tgid);
+	struct procmap *nm;
+	char (*nb)[48];
+	__u32 *nf;
+
+	if (!p)
+		return;
+	if (p->gen != gen) {	/* a new set: the old one goes */
+		uproc_set_maps(p, NULL, 0);
+		p->gen = gen;
+	}
+	nm = realloc(p->maps, (p->nmaps + 1) * sizeof(*nm));
+	if (nm)
+		p->maps = nm;
+	nf = realloc(p->flags, (p->nmaps + 1) * sizeof(*nf));
+	if (nf)
+		p->flags = nf;
+	nb = realloc(p->bids, (p->nmaps + 1) * sizeof(*nb));
+	if (nb)
+		p->bids = nb;
+	if (!nm || !nf || !nb)
+		return;
+	p->maps[p->nmaps] = *m;
+	p->flags[p->nmaps] = flags;
+	snprintf(p->bids[p->nmaps], sizeof(p->bids[0]), "%s", build_id);
+	p->nmaps++;
+	p->dirty = true;
+}
+
+int unwind_offline_pcs(struct unwinder *u, __u32 tgid, const __u64 *pcs, int n,
+		       struct stack_frame *out, int max)
+{
+	struct uproc *p = uproc_offline(u, tgid);
+	int i;
+
+	if (!p)
+		return 0;
+	if (p->dirty || !p->dwfl) {
+		if (p->dwfl)
+			dwfl_end(p->dwfl);
+		p->dwfl = NULL;
+		if (p->cache)
+			memset(p->cache, 0, SYMCACHE_SIZE * sizeof(*p->cache));
+		uproc_report(p);
+		p->dirty = false;
+	}
+	for (i = 0; i < n && i < max; i++)
+		symbolize_cached(p, pcs[i], i == 0, &out[i]);
+	return i;
+}
+
 void unwinder_free(struct unwinder *u)
 {
 	int i;
@@ -460,6 +625,7 @@ void unwinder_free(struct unwinder *u)
 			dwfl_end(u->p[i].dwfl);
 		free(u->p[i].maps);
 		free(u->p[i].flags);
+		free(u->p[i].bids);
 		free(u->p[i].cache);
 	}
 	free(u->p);

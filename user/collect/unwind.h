@@ -16,6 +16,16 @@
 #include "model/stackagg.h"
 
 struct unwinder;
+struct procmap;
+
+/* The mappings a process's stacks are symbolized with, for the recorded trace. */
+struct stack_maps {
+	__u32 gen;		/* changes when they are read again */
+	int n;
+	const struct procmap *maps;
+	const __u32 *flags;	/* FRAME_* */
+	const char (*bids)[48];	/* build-ids, hex */
+};
 
 /* unwinder_new - an empty cache of processes; NULL without memory */
 struct unwinder *unwinder_new(void);
@@ -28,6 +38,18 @@ void unwind_note_process(struct unwinder *u, __u32 tgid);
  */
 int unwind_record(struct unwinder *u, const struct rtsup_stack_rec *r, size_t len,
 		  struct stack_frame *out, int max);
+/*
+ * unwind_maps - the mappings a process's stacks were symbolized with, and
+ * their set's generation (it changes when they are read again): for the
+ * recorded trace (REC_MODULE). Their count, 0 for a process not known.
+ */
+int unwind_maps(struct unwinder *u, __u32 tgid, struct stack_maps *m);
+/* unwind_offline_map - replay: one recorded mapping; a new gen replaces the set */
+void unwind_offline_map(struct unwinder *u, __u32 tgid, __u32 gen, const struct procmap *m,
+			__u32 flags, const char *build_id);
+/* unwind_offline_pcs - replay: recorded pcs (the first exact) to frames */
+int unwind_offline_pcs(struct unwinder *u, __u32 tgid, const __u64 *pcs, int n,
+		       struct stack_frame *out, int max);
 void unwinder_free(struct unwinder *u);
 
 #endif

@@ -26,7 +26,7 @@ struct stack_frame {
 	__u32 flags;		/* FRAME_* */
 	char func[96];		/* "" unknown */
 	char file[128];		/* source file, "" unknown */
-	char module[128];	/* the module's path, "" outside any module ([unknown]) */
+	char module[256];	/* the module's path, "" outside any module ([unknown]) */
 	char build_id[41];	/* hex, "" unknown */
 };
 

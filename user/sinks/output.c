@@ -14,6 +14,12 @@
 
 #define MAX_EVENT_LINES 10
 
+/* stacks_shown - --stacks live, or a replayed trace that has stacks */
+static bool stacks_shown(const struct collector *c)
+{
+	return c->o->stacks || c->unwinder;
+}
+
 static const char *const event_names[] = {
 	[RTSUP_EV_MISS] = "deadline_miss",
 	[RTSUP_EV_UNSAFE] = "unsafe",
@@ -166,7 +172,7 @@ static json_t *json_thread(const struct collector *c, const struct supervisor *s
 		json_object_set_new(o, "interval", json_span(&tm->win, tm, true));
 	json_object_set_new(o, "total", json_span(&tm->life, tm, false));
 	/* --stacks: where in the code its RT-unsafe events came from */
-	if (c->o->stacks)
+	if (stacks_shown(c))
 		json_object_set_new(o, "stacks", stacks_json(&c->stacks, tm->tid, window));
 	/* --hist: the summary's lifetime ones, and each interval's with --hist-interval */
 	if (c->o->hist && hist_shown(tm) && (!window || c->o->hist_interval))
@@ -368,7 +374,7 @@ static void json_interval(const struct collector *c, const struct supervisor *sv
 		json_key("can");
 		json_put(can_json(sv->can, &sv->cfg, sv->now, interval, false));
 	}
-	if (c->o->stacks) {
+	if (stacks_shown(c)) {
 		json_key("stack_records");
 		json_put(stacks_health_json(&c->stacks));
 	}
@@ -423,7 +429,7 @@ static void json_summary(const struct collector *c, const struct supervisor *sv,
 						    level_name(v->level), "what", v->what, "checks",
 						    json_checks(v->fact, v->nfact, text)));
 	}
-	if (c->o->stacks)
+	if (stacks_shown(c))
 		json_object_set_new(o, "stack_records", stacks_health_json(&c->stacks));
 	json_object_set_new(o, "violations", vs);
 	json_object_set_new(o, "violations_not_listed", json_integer(sv->v_dropped));
@@ -582,7 +588,7 @@ static void table_interval(const struct collector *c, const struct supervisor *s
 	hidden += c->events.folded + c->events.dropped;
 	if (hidden)
 		printf("  ... %llu more events\n", (unsigned long long)hidden);
-	if (c->o->stacks)
+	if (stacks_shown(c))
 		stacks_table(stdout, &c->stacks, &c->model, true);
 	printf("\n");
 	if (c->o->hist_interval)
@@ -629,7 +635,7 @@ static void table_summary(const struct collector *c, const struct supervisor *sv
 			       (unsigned long long)tm->sys[j].total);
 		printf("\n");
 	}
-	if (c->o->stacks)
+	if (stacks_shown(c))
 		stacks_table(stdout, &c->stacks, &c->model, false);
 	if (sv->can)
 		can_table(sv->can, &sv->cfg, sv->now, elapsed, true);
