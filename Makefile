@@ -18,7 +18,7 @@ CFLAGS   ?= -O2 -g
 WARN     := -Wall -Wextra -Wno-unused-parameter
 INCLUDES := -Iinclude -I$(OUT) -I/usr/include/libnl3
 USER_INC := -Iuser
-USER_LIBS := -lbpf -ldw -lelf -lz -ljansson -lyaml -lnl-route-3 -lnl-3 -lsystemd -lpthread
+USER_LIBS := -lbpf -ldw -lelf -lstdc++ -lz -ljansson -lyaml -lnl-route-3 -lnl-3 -lsystemd -lpthread
 CPPFLAGS += -D_GNU_SOURCE -MMD -MP
 
 ifeq ($(V),1)
@@ -44,7 +44,8 @@ UNIT_BINS := $(patsubst %.c,$(OUT)/tests/%,$(notdir $(UNIT_SRCS)))
 
 all: $(OUT)/rtsup-trace $(OUT)/rtsup-loadgen $(OUT)/rtsup-cansim $(OUT)/rtsup-noise \
      $(OUT)/progs/usleep_loop $(OUT)/progs/timerfd_loop $(OUT)/progs32/abi32_loop \
-     $(OUT)/progs/where_loop_fp $(OUT)/progs/where_loop_dwarf $(OUT)/progs/where_loop_lib
+     $(OUT)/progs/where_loop_fp $(OUT)/progs/where_loop_dwarf $(OUT)/progs/where_loop_lib \
+     $(OUT)/progs/where_cpp
 
 $(OUT) $(OUT)/tests:
 	$(Q)mkdir -p $@
@@ -140,6 +141,12 @@ $(OUT)/progs/where_loop_lib: tests/integration/progs/where_loop.c $(OUT)/progs/l
 	$(call msg,CC,$@)
 	$(Q)$(CC) -O2 -g -DWHERE_LIB $(WARN) $< -L$(OUT)/progs -lwhere -Wl,-rpath,'$$ORIGIN' \
 		-lpthread -o $@
+
+# the C++ case: a member function in a namespace, -O2 -g without frame pointers
+$(OUT)/progs/where_cpp: tests/integration/progs/where_cpp.cpp
+	@mkdir -p $(@D)
+	$(call msg,CXX,$@)
+	$(Q)$(CXX) -O2 -g $(WARN) $< -lpthread -o $@
 
 # The same, built for the 32-bit ABI (gcc-multilib): other syscall numbers.
 $(OUT)/progs32/%: tests/integration/progs/%.c

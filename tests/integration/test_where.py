@@ -234,3 +234,30 @@ def test_replay_with_another_build_names_nothing_wrong(tmp_path):
         assert f["offset"] == lf["offset"] and f["build_id"] == lf["build_id"], (f, lf)
     # libc is the same build here: still named
     assert st["frames"][0]["function"] == lst["frames"][0]["function"]
+
+
+def test_cpp_member_function_named_demangled():
+    """C++: operator new of a big block in ctrl::Loop::update(), -O2 -g, no frame pointers."""
+    src = ROOT / "tests" / "integration" / "progs" / "where_cpp.cpp"
+    r = subprocess.run([str(TRACE), "-j", "--stacks", "dwarf", "--", str(BUILD / "progs" / "where_cpp"),
+                        "200", "10000"], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    truth = [json.loads(x) for x in r.stderr.splitlines() if x.startswith('{"tid"')][0]
+    summary = [json.loads(x) for x in r.stdout.splitlines() if '"summary"' in x][0]
+    assert truth["news"] == 100
+    # 50 blocks a second, each an mmap, a fault and a munmap: within the budget
+    assert summary["stack_records"]["over_budget"] == 0, summary["stack_records"]
+    t, st = ctrl_stacks(truth, summary, "mmap")
+    # every mmap of the thread came from update(): its blocks, and once the
+    # thread's malloc arena (its first allocation), another path in glibc
+    assert all("ctrl::Loop::update(long)" in [n[0] for n in named(s["frames"])] for s in st), st
+    assert sum(s["count"] for s in st) == t["total"]["unsafe_syscalls"]["mmap"]
+    blocks = [s for s in st if s["count"] == truth["news"]]
+    assert len(blocks) == 1, st
+    names = named(blocks[0]["frames"])
+    fn = [n[0] for n in names]
+    i = fn.index("ctrl::Loop::update(long)")
+    assert names[i] == ("ctrl::Loop::update(long)", "where_cpp.cpp", marker_line("CPP_NEW", src))
+    assert names[i + 1] == ("ctrl::Loop::run()", "where_cpp.cpp", marker_line("CPP_CALL", src))
+    # through glibc's malloc and libstdc++'s operator new, both without frame pointers
+    assert "operator new(unsigned long)" in fn[:i], names

@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include <sys/stat.h>
 #include <elfutils/libdwfl.h>
 #include <elfutils/libdwelf.h>
 #include "collect/procmaps.h"
@@ -135,6 +136,7 @@ static int uproc_set_maps(struct uproc *p, struct procmap *maps, int n)
 static int uproc_report(struct uproc *p)
 {
 	char path[64], bid[48];
+	struct stat st;
 	int i, j, fd;
 
 	p->dwfl = dwfl_begin(&dwfl_cbs);
@@ -156,7 +158,12 @@ static int uproc_report(struct uproc *p)
 			continue;
 		}
 		if (p->offline) {
-			fd = open(m->path, O_RDONLY | O_CLOEXEC);
+			/* a recorded path is outside input: a regular file, never a FIFO's wait */
+			fd = open(m->path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+			if (fd >= 0 && (fstat(fd, &st) || !S_ISREG(st.st_mode))) {
+				close(fd);
+				fd = -1;
+			}
 			build_id_of(fd, bid, sizeof(bid));
 			if (fd >= 0 && p->bids[i][0] && strcmp(bid, p->bids[i])) {
 				close(fd);	/* another build here: no names from it */
@@ -357,6 +364,21 @@ static void map_only(const struct uproc *p, __u64 look, struct stack_frame *f)
 	}
 }
 
+/* C++'s demangler, in libstdc++ (the Itanium ABI's, C linkage) */
+extern char *__cxa_demangle(const char *mangled, char *buf, size_t *len, int *status);
+
+/* demangle - "_ZN4ctrl4Loop6updateEl" as "ctrl::Loop::update(long)"; C names as they are */
+static void demangle(const char *name, char *out, size_t len)
+{
+	char *d = NULL;
+	int status = -1;
+
+	if (name[0] == '_' && name[1] == 'Z')
+		d = __cxa_demangle(name, NULL, NULL, &status);
+	snprintf(out, len, "%s", d && !status ? d : name);
+	free(d);
+}
+
 /* symbolize - what is known of one pc; 'act': the exact pc, else a return address */
 static void symbolize(struct uproc *p, __u64 pc, bool act, struct stack_frame *f)
 {
@@ -387,7 +409,7 @@ static void symbolize(struct uproc *p, __u64 pc, bool act, struct stack_frame *f
 		snprintf(f->build_id + i * 2, 3, "%02x", id[i]);
 	name = dwfl_module_addrinfo(m, look, &off, &sym, NULL, NULL, NULL);
 	if (name)
-		snprintf(f->func, sizeof(f->func), "%s", name);
+		demangle(name, f->func, sizeof(f->func));
 	l = dwfl_module_getsrc(m, look);
 	src = l ? dwfl_lineinfo(l, &lineaddr, &f->line, NULL, NULL, NULL) : NULL;
 	if (src)

@@ -121,10 +121,13 @@ void frame_format(const struct stack_frame *f, char *buf, size_t len)
 	const char *note = f->flags & FRAME_REPLACED ? " [replaced on disk]" :
 			   f->flags & FRAME_DELETED ? " [deleted]" : "";
 
+	/* a demangled C++ name has its parameters already */
+	const char *call = strchr(f->func, '(') ? "" : "()";
+
 	if (f->func[0] && f->line)
-		snprintf(buf, len, "%s() %s:%d%s", f->func, base(f->file), f->line, note);
+		snprintf(buf, len, "%s%s %s:%d%s", f->func, call, base(f->file), f->line, note);
 	else if (f->func[0])
-		snprintf(buf, len, "%s() (%s+0x%llx)%s", f->func, base(f->module),
+		snprintf(buf, len, "%s%s (%s+0x%llx)%s", f->func, call, base(f->module),
 			 (unsigned long long)f->offset, note);
 	else if (f->module[0] && f->build_id[0])
 		snprintf(buf, len, "%s+0x%llx (build-id %.12s)%s", base(f->module),

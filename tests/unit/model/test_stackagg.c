@@ -153,6 +153,17 @@ static void test_frame_format_known_and_unknown(void **state)
 	assert_string_equal(buf, "[no user stack]");
 }
 
+/* a demangled C++ name carries its parameters: no second "()" */
+static void test_frame_format_cpp(void **state)
+{
+	struct stack_frame f = frame("ctrl::Loop::update(long)", "/src/loop.cpp", 36,
+				     "/usr/bin/loop", 0x1234);
+	char buf[256];
+
+	frame_format(&f, buf, sizeof(buf));
+	assert_string_equal(buf, "ctrl::Loop::update(long) loop.cpp:36");
+}
+
 /* a long stack is cut at the buffer, never overruns it */
 static void test_stack_format_truncates(void **state)
 {
@@ -178,6 +189,7 @@ int main(void)
 		cmocka_unit_test(test_stackagg_full_counts),
 		cmocka_unit_test(test_frame_format_known_and_unknown),
 		cmocka_unit_test(test_stack_format_truncates),
+		cmocka_unit_test(test_frame_format_cpp),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);
