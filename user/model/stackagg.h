@@ -12,7 +12,7 @@
 #include "rtsup.h"
 
 #define STACK_MAX_FRAMES	RTSUP_STACK_DEPTH
-#define STACKAGG_MAX		4096	/* distinct stacks kept; more are counted */
+#define STACKAGG_MAX		1024	/* distinct stacks kept (up to 18 KiB each); more are counted */
 
 /* Frame flags. */
 #define FRAME_REPLACED	0x01	/* the module's file on disk is another build now */
