@@ -19,7 +19,7 @@ CFLAGS   ?= -O2 -g
 WARN     := -Wall -Wextra -Wno-unused-parameter
 INCLUDES := -Iinclude -I$(OUT) -I/usr/include/libnl3
 USER_INC := -Iuser
-USER_LIBS := -lbpf -lelf -lz -ljansson -lyaml -lnl-route-3 -lnl-3 -lsystemd -lpthread
+USER_LIBS := -lbpf -ldw -lelf -lstdc++ -lz -ljansson -lyaml -lnl-route-3 -lnl-3 -lsystemd -lpthread
 CPPFLAGS += -D_GNU_SOURCE -MMD -MP
 
 ifeq ($(V),1)
@@ -44,7 +44,9 @@ UNIT_BINS := $(patsubst %.c,$(OUT)/tests/%,$(notdir $(UNIT_SRCS)))
 .SECONDARY:
 
 all: $(OUT)/rtsup-trace $(OUT)/rtsup-loadgen $(OUT)/rtsup-cansim $(OUT)/rtsup-noise \
-     $(OUT)/progs/usleep_loop $(OUT)/progs/timerfd_loop $(OUT)/progs32/abi32_loop
+     $(OUT)/progs/usleep_loop $(OUT)/progs/timerfd_loop $(OUT)/progs32/abi32_loop \
+     $(OUT)/progs/where_loop_fp $(OUT)/progs/where_loop_dwarf $(OUT)/progs/where_loop_lib \
+     $(OUT)/progs/where_cpp
 
 $(OUT) $(OUT)/tests:
 	$(Q)mkdir -p $@
@@ -122,6 +124,38 @@ $(OUT)/progs/%: tests/integration/progs/%.c
 	$(call msg,CC,$@)
 	$(Q)$(CC) $(CFLAGS) $(WARN) $< -o $@
 
+# test_where.py: the same loop with frame pointers as Fedora and Ubuntu 24.04
+# build (its mmap a syscall of its own: a frameless libc wrapper would hide
+# its caller from a frame-pointer walk), and -O2 -g without
+$(OUT)/progs/where_loop_fp: tests/integration/progs/where_loop.c
+	@mkdir -p $(@D)
+	$(call msg,CC,$@)
+	$(Q)$(CC) -O2 -g -fno-omit-frame-pointer -mno-omit-leaf-frame-pointer \
+		-DWHERE_RAW_SYSCALL $(WARN) $< -lpthread -o $@
+
+$(OUT)/progs/where_loop_dwarf: tests/integration/progs/where_loop.c
+	@mkdir -p $(@D)
+	$(call msg,CC,$@)
+	$(Q)$(CC) -O2 -g -fomit-frame-pointer $(WARN) $< -lpthread -o $@
+
+$(OUT)/progs/libwhere.so: tests/integration/progs/where_lib.c
+	@mkdir -p $(@D)
+	$(call msg,CC,$@)
+	$(Q)$(CC) -O2 -g -fPIC -shared $(WARN) $< -o $@
+
+# the unsafe calls inside a shared library of ours, found next to the program
+$(OUT)/progs/where_loop_lib: tests/integration/progs/where_loop.c $(OUT)/progs/libwhere.so
+	@mkdir -p $(@D)
+	$(call msg,CC,$@)
+	$(Q)$(CC) -O2 -g -DWHERE_LIB $(WARN) $< -L$(OUT)/progs -lwhere -Wl,-rpath,'$$ORIGIN' \
+		-lpthread -o $@
+
+# the C++ case: a member function in a namespace, -O2 -g without frame pointers
+$(OUT)/progs/where_cpp: tests/integration/progs/where_cpp.cpp
+	@mkdir -p $(@D)
+	$(call msg,CXX,$@)
+	$(Q)$(CXX) -O2 -g $(WARN) $< -lpthread -o $@
+
 # The same, built for the 32-bit ABI (gcc-multilib): other syscall numbers.
 $(OUT)/progs32/%: tests/integration/progs/%.c
 	@mkdir -p $(@D)
@@ -150,6 +184,8 @@ UNIT_DEPS_test_actions := user/robot/actions.c user/config/actionspec.c user/jud
 UNIT_LIBS_test_actions := -ljansson -lyaml
 UNIT_DEPS_test_targets := user/collect/targets.c
 UNIT_DEPS_test_pidns := user/collect/pidns.c
+UNIT_DEPS_test_procmaps := user/collect/procmaps.c
+UNIT_DEPS_test_stackagg := user/model/stackagg.c
 UNIT_DEPS_test_candump := user/offline/candump.c
 UNIT_DEPS_test_prom := user/sinks/prom.c user/model/model.c user/judge/status.c user/model/syscalls.c
 UNIT_DEPS_test_service := user/robot/service.c user/judge/status.c

@@ -65,6 +65,9 @@ const volatile __u32 cfg_can_nif;	/* --can IFACE: how many; 0 = every CAN interf
 const volatile __u32 cfg_netns;		/* inode of rtsup-trace's network namespace */
 const volatile __u32 cfg_canopen;	/* match CANopen SDO requests and responses */
 const volatile char cfg_comms[RTSUP_MAX_COMMS][RTSUP_COMM_LEN];
+const volatile __u32 cfg_stacks;	/* --stacks: enum rtsup_stacks */
+const volatile __u32 cfg_stack_size = 8192;	/* --stack-size: DWARF bytes copied */
+const volatile __u32 cfg_stack_budget = RTSUP_STACK_BUDGET;	/* per thread, interval */
 
 /* Written by userspace while running. */
 __u32 epoch;			/* flipped every interval */
@@ -216,6 +219,27 @@ struct {
 	__uint(max_entries, 4096);
 } cycles SEC(".maps");
 
+/* User stacks at RT-unsafe events (--stacks); sized by userspace when on. */
+struct {
+	__uint(type, BPF_MAP_TYPE_RINGBUF);
+	__uint(max_entries, 4096);
+} stacks SEC(".maps");
+
+/* Stack records per thread in the interval: LRU, a dead thread's goes by itself. */
+struct {
+	__uint(type, BPF_MAP_TYPE_LRU_HASH);
+	__uint(max_entries, RTSUP_DEFAULT_THREADS);	/* --max-threads */
+	__type(key, __u32);
+	__type(value, struct rtsup_stack_budget);
+} stack_budget SEC(".maps");
+
+struct {
+	__uint(type, BPF_MAP_TYPE_PERCPU_ARRAY);
+	__uint(max_entries, RTSUP_STK_NR);
+	__type(key, __u32);
+	__type(value, __u64);
+} stack_counters SEC(".maps");
+
 /* zero_mem - clear n bytes of a map value by copying the zero template */
 static __always_inline void zero_mem(void *p, __u32 n)
 {
@@ -327,6 +351,130 @@ static __always_inline void emit(__u32 type, struct rtsup_thread *t, __u64 now,
 	e->arg2 = arg2;
 	__builtin_memcpy(e->comm, t->comm, sizeof(e->comm));
 	bpf_ringbuf_submit(e, 0);
+}
+
+/* count_stk - bump one of the stack records' counters */
+static __always_inline void count_stk(__u32 which)
+{
+	__u64 *c = bpf_map_lookup_elem(&stack_counters, &which);
+
+	if (c)
+		(*c)++;
+}
+
+/* stack_budget_take - may the thread send one more stack this interval? */
+static __always_inline int stack_budget_take(__u32 tid)
+{
+	struct rtsup_stack_budget *b = bpf_map_lookup_elem(&stack_budget, &tid), nb;
+
+	if (!b) {
+		nb.epoch = epoch;
+		nb.n = 1;
+		bpf_map_update_elem(&stack_budget, &tid, &nb, BPF_ANY);
+		return 1;
+	}
+	if (b->epoch != epoch) {
+		b->epoch = epoch;
+		b->n = 0;
+	}
+	if (b->n >= cfg_stack_budget)
+		return 0;
+	b->n++;
+	return 1;
+}
+
+/*
+ * copy_regs - the user registers in DWARF numbering (libdwfl's order):
+ * x86_64 rax rdx rcx rbx rsi rdi rbp rsp r8-r15 rip; arm64 x0-x30 sp pc
+ */
+static __always_inline __u64 copy_regs(__u64 *out, struct pt_regs *kregs)
+{
+	struct pt_regs r;
+
+	if (bpf_probe_read_kernel(&r, sizeof(r), kregs))
+		return 0;
+#if defined(__TARGET_ARCH_x86)
+	out[0] = r.ax; out[1] = r.dx; out[2] = r.cx; out[3] = r.bx;
+	out[4] = r.si; out[5] = r.di; out[6] = r.bp; out[7] = r.sp;
+	out[8] = r.r8; out[9] = r.r9; out[10] = r.r10; out[11] = r.r11;
+	out[12] = r.r12; out[13] = r.r13; out[14] = r.r14; out[15] = r.r15;
+	out[16] = r.ip;
+	return r.sp;
+#elif defined(__TARGET_ARCH_arm64)
+	__u32 i;
+
+	for (i = 0; i < 31; i++)
+		out[i] = r.regs[i];
+	out[31] = r.sp;
+	out[32] = r.pc;
+	return r.sp;
+#else
+	return 0;
+#endif
+}
+
+/*
+ * dump_stack - the top of the user stack from sp: the whole size, or half
+ * of it, and so on, where the stack's end is nearer (a main thread)
+ */
+static __always_inline __u32 dump_stack(void *dst, __u64 sp)
+{
+	__u32 i, len = cfg_stack_size;
+
+	for (i = 0; i < 5; i++, len >>= 1)
+		if (len && !bpf_probe_read_user(dst, len, (void *)sp))
+			return len;
+	return 0;
+}
+
+/*
+ * capture_stack - the current target's user stack at an RT-unsafe event.
+ * Only here, never on a clean cycle's path; beyond the thread's budget in
+ * the interval or with a full ring buffer, counted instead.
+ */
+static __always_inline void capture_stack(struct rtsup_thread *t, __u64 now, __u32 reason,
+					  __u32 nr)
+{
+	struct task_struct *task;
+	struct rtsup_stack_rec *r;
+	long n;
+
+	if (!cfg_stacks)
+		return;
+	if (!stack_budget_take(t->tid)) {
+		count_stk(RTSUP_STK_OVER_BUDGET);
+		return;
+	}
+	r = bpf_ringbuf_reserve(&stacks, sizeof(*r) + (cfg_stacks == RTSUP_STACKS_DWARF ?
+						       cfg_stack_size : 0), 0);
+	if (!r) {
+		count_stk(RTSUP_STK_LOST);
+		return;
+	}
+	r->ts = now;
+	r->tid = t->tid;
+	r->tgid = t->tgid;
+	r->reason = reason;
+	r->nr = nr;
+	r->kind = cfg_stacks;
+	r->nips = 0;
+	r->dump_len = 0;
+	r->sp = 0;
+	task = bpf_get_current_task_btf();
+	r->exec_id = BPF_CORE_READ(task, self_exec_id);
+	if (cfg_stacks == RTSUP_STACKS_DWARF) {
+		r->sp = copy_regs(r->regs, (struct pt_regs *)bpf_task_pt_regs(task));
+		if (r->sp)
+			r->dump_len = dump_stack(r + 1, r->sp);
+		if (!r->dump_len)
+			count_stk(RTSUP_STK_NO_STACK);
+	} else {
+		n = bpf_get_task_stack(task, r->ips, sizeof(r->ips), BPF_F_USER_STACK);
+		r->nips = n > 0 ? n / sizeof(__u64) : 0;
+		if (!r->nips)
+			count_stk(RTSUP_STK_NO_STACK);
+	}
+	bpf_ringbuf_submit(r, 0);
 }
 
 /* comm_match - is this name one of the --comm targets? */
@@ -619,6 +767,7 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 		/* by number at the cycle's end, like the other counts */
 		if (cycle_pend_sys(&t->cs, nr))
 			count_sys(t, nr, 1);
+		capture_stack(t, now, RTSUP_U_SYSCALL, nr);
 		/* a signal handler's, unless the thread does not resume its wait */
 		if (!(t->cs.flags & RTSUP_CS_INTR))
 			emit(RTSUP_EV_UNSAFE, t, now, RTSUP_U_SYSCALL, nr);
@@ -761,8 +910,11 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 			 thread_cfg_of(prev_tid));
 		ev = cycle_switch_out_on(pt, &cf, out, now, voluntary, TREAD(btf, prev, min_flt),
 					 TREAD(btf, prev, maj_flt), &c);
-		if (ev & CYC_EV_BLOCK)
+		if (ev & CYC_EV_BLOCK) {
 			emit(RTSUP_EV_UNSAFE, pt, now, RTSUP_U_BLOCK, 0);
+			/* prev is the current task: where it blocked */
+			capture_stack(pt, now, RTSUP_U_BLOCK, 0);
+		}
 		if (ev & CYC_EV_CLOSED)
 			emit_cycle(ev, pt, now, &c, 0);
 	}
@@ -822,6 +974,26 @@ static __always_inline void exec_reset(struct rtsup_thread *t)
 	note_wake(t);
 }
 
+/* stack_exec_mark - --stacks: the process's mappings are another program's now */
+static __always_inline void stack_exec_mark(struct rtsup_thread *t, struct task_struct *p)
+{
+	struct rtsup_stack_rec *r;
+
+	if (!cfg_stacks)
+		return;
+	r = bpf_ringbuf_reserve(&stacks, sizeof(*r), 0);
+	if (!r) {
+		count_stk(RTSUP_STK_LOST);
+		return;
+	}
+	__builtin_memset(r, 0, sizeof(*r));
+	r->tid = t->tid;
+	r->tgid = t->tgid;
+	r->reason = RTSUP_STACK_EXEC;
+	r->exec_id = BPF_CORE_READ(p, self_exec_id);
+	bpf_ringbuf_submit(r, 0);
+}
+
 /*
  * on_exec - a target's cycles start again; a process that now carries a
  * --comm name becomes a target
@@ -840,6 +1012,8 @@ static __always_inline int on_exec(struct task_struct *p)
 		add_thread(p, bpf_ktime_get_ns());
 	else if (t)
 		exec_reset(t);
+	if (t)
+		stack_exec_mark(t, p);
 	if (!cfg_ncomm)
 		return 0;
 	bpf_probe_read_kernel_str(comm, sizeof(comm), &p->comm);
@@ -883,6 +1057,25 @@ static __always_inline int on_exit(struct task_struct *task)
 	note_wake(t);
 	t->exit_code = BPF_CORE_READ(task, exit_code);
 	emit(RTSUP_EV_EXIT, t, now, t->exit_mid_cycle, t->exit_code);
+	return 0;
+}
+
+/*
+ * on_fault - --stacks: a target's user page fault inside a cycle, where it
+ * happened. Attached only with --stacks: every user fault on the machine
+ * costs the tidmask load.
+ */
+static __always_inline int on_fault(void)
+{
+	__u32 tid = (__u32)bpf_get_current_pid_tgid();
+	struct rtsup_thread *t = lookup_thread(tid);
+
+	if (!t || t->exited)
+		return 0;
+	settle(t, held_switch_in());
+	/* inside a cycle, as cycle_syscall counts a syscall */
+	if (t->cs.start && !t->cs.in_delim)
+		capture_stack(t, bpf_ktime_get_ns(), RTSUP_STACK_FAULT, 0);
 	return 0;
 }
 
@@ -1225,8 +1418,17 @@ SEC(kind "/softirq_exit")							\
 int BPF_PROG(can_softirq_out_##sfx, unsigned int vec)				\
 { return BODY(on_softirq(0)); }
 
+/* x86 only: the loader keeps them off elsewhere, and without --stacks */
+#define RTSUP_FAULT_PROGS(kind, sfx)						\
+SEC(kind "/page_fault_user")							\
+int BPF_PROG(page_fault_user_##sfx, unsigned long address, struct pt_regs *regs,	\
+	     unsigned long error_code)						\
+{ return BODY(on_fault()); }
+
 RTSUP_PROGS("tp_btf", btf, 1)
 RTSUP_PROGS("raw_tp", raw, 0)
+RTSUP_FAULT_PROGS("tp_btf", btf)
+RTSUP_FAULT_PROGS("raw_tp", raw)
 RTSUP_CAN_PROGS("tp_btf", btf, 1)
 RTSUP_CAN_PROGS("raw_tp", raw, 0)
 

@@ -331,4 +331,59 @@ enum rtsup_counter {
 	RTSUP_C_NR,
 };
 
+/*
+ * Where in the code (--stacks): the user stack of a target at an RT-unsafe
+ * event, one record in the ring buffer "stacks". Frame pointers: the
+ * kernel walks them (ips). DWARF: the user registers and the top of the
+ * user stack are copied (regs, dump) and unwound in userspace (libdwfl).
+ */
+enum rtsup_stacks {
+	RTSUP_STACKS_OFF,
+	RTSUP_STACKS_FP,
+	RTSUP_STACKS_DWARF,
+};
+
+#define RTSUP_STACK_DEPTH	32	/* frames walked by frame pointers */
+#define RTSUP_STACK_REGS	33	/* DWARF numbering: x86_64 0-16, arm64 0-32 */
+#define RTSUP_STACK_DUMP_MAX	(64 * 1024)	/* --stack-size at most */
+#define RTSUP_STACK_BUDGET	256	/* default records per thread per interval */
+
+struct rtsup_stack_rec {
+	__u64 ts;
+	__u32 tid;
+	__u32 tgid;
+	__u32 reason;		/* enum rtsup_unsafe */
+	__u32 nr;		/* the syscall, RTSUP_U_SYSCALL only */
+	__u32 kind;		/* enum rtsup_stacks */
+	__u32 nips;		/* frame pointers: entries of ips */
+	__u32 dump_len;		/* DWARF: bytes of dump, from the stack pointer up */
+	__u32 exec_id;		/* the process's exec generation: its mappings changed */
+	__u64 sp;		/* DWARF: the user stack pointer, where dump starts */
+	__u64 regs[RTSUP_STACK_REGS];	/* DWARF: the user registers at the event */
+	__u64 ips[RTSUP_STACK_DEPTH];	/* frame pointers: innermost first */
+	/* DWARF: dump follows, cfg_stack_size bytes */
+};
+
+/* reason of a record without a stack: the process ran a new program (exec) */
+#define RTSUP_STACK_EXEC	RTSUP_U_NR
+/*
+ * reason of a user page fault inside a cycle (x86 exceptions:page_fault_user):
+ * minor or major is known only at the cycle's end, from the task's counters
+ */
+#define RTSUP_STACK_FAULT	(RTSUP_U_NR + 1)
+
+/* A thread's stack records in the current interval (map "stack_budget"). */
+struct rtsup_stack_budget {
+	__u32 epoch;
+	__u32 n;
+};
+
+/* Counters of the stack records (array "stack_counters"): none is silent. */
+enum rtsup_stack_counter {
+	RTSUP_STK_LOST,		/* the ring buffer "stacks" was full */
+	RTSUP_STK_OVER_BUDGET,	/* beyond the thread's budget in the interval */
+	RTSUP_STK_NO_STACK,	/* the kernel could not read the user stack */
+	RTSUP_STK_NR,
+};
+
 #endif /* RTSUP_H */

@@ -23,7 +23,8 @@ static const char doc[] =
 "USAGE: rtsup-trace [-p PID] [-t TID] [-c COMM] [--rt] [--cgroup PATH]\n"
 "                   [-i INTERVAL] [-d DURATION] [-j] [-v] [--config FILE]\n"
 "                   [--check [--fail-on warn|error]] [--record FILE] [--perfetto FILE]\n"
-"                   [--hist[=METRIC,...] [--hist-interval]] [-- CMD [ARGS...]]\n"
+"                   [--hist[=METRIC,...] [--hist-interval]] [--stacks fp|dwarf|off]\n"
+"                   [-- CMD [ARGS...]]\n"
 "       rtsup-trace replay FILE [--config FILE] [-j] [--check] [--perfetto FILE]\n"
 "                   [--hist[=METRIC,...]] [-q]\n"
 "       rtsup-trace --check-config FILE\n"
@@ -35,6 +36,7 @@ static const char doc[] =
 "    rtsup-trace -p 1234 --cycle-syscall epoll_wait  # cycles end in epoll_wait\n"
 "    rtsup-trace --check --config rt.yaml -- ./my_control_test  # CI\n"
 "    rtsup-trace -p 1234 -d 30s --hist=latency,exec  # histograms at the end\n"
+"    rtsup-trace -p 1234 --stacks dwarf          # where each RT-unsafe event came from\n"
 "    rtsup-trace -p 1234 -d 1m --record run.rtsup; rtsup-trace replay run.rtsup --check\n"
 "\n"
 "Exit status: 0 on success (with --check: every component stayed OK), 1 on an\n"
@@ -68,6 +70,9 @@ enum {
 	OPT_HIST_INTERVAL,
 	OPT_ON_LEVEL,
 	OPT_ROS2_DIAG,
+	OPT_STACKS,
+	OPT_STACK_SIZE,
+	OPT_STACK_BUDGET,
 };
 
 static const struct argp_option opts[] = {
@@ -112,6 +117,10 @@ static const struct argp_option opts[] = {
 	{ "ros2-diagnostics", OPT_ROS2_DIAG, NULL, 0,
 	  "Publish the verdicts on ROS 2 /diagnostics (Cyclone DDS, ROS_DOMAIN_ID)", 0 },
 	/* make bench: the same hooks with empty programs, the floor of any BPF tracer */
+	{ "stacks", OPT_STACKS, "HOW", 0,
+	  "User stack at each RT-unsafe event: off (default), fp (frame pointers) or dwarf", 0 },
+	{ "stack-size", OPT_STACK_SIZE, "BYTES", 0, "With --stacks dwarf: user stack copied per event (default 8K)", 0 },
+	{ "stack-budget", OPT_STACK_BUDGET, "N", 0, "Stacks captured per thread per interval, the rest counted (default 256)", 0 },
 	{ "floor", OPT_FLOOR, NULL, OPTION_HIDDEN, "Attach empty programs instead (benchmark)", 0 },
 	{},
 };
@@ -164,6 +173,27 @@ static int hist_metric(const char *name)
 		if (!strcmp(name, names[i]))
 			return i;
 	return -1;
+}
+
+/* stack_size_parse - "8K", "16384": bytes of user stack, 512 to 64K, 8-aligned */
+static int stack_size_parse(const char *s, __u32 *out)
+{
+	char buf[16];
+	size_t n = strlen(s);
+	long v, mul = 1;
+
+	if (!n || n >= sizeof(buf))
+		return -1;
+	memcpy(buf, s, n + 1);
+	if (buf[n - 1] == 'K' || buf[n - 1] == 'k') {
+		mul = 1024;
+		buf[n - 1] = '\0';
+	}
+	if (strict_long(buf, 1, RTSUP_STACK_DUMP_MAX, &v) || v * mul > RTSUP_STACK_DUMP_MAX ||
+	    v * mul < 512 || (v * mul) % 8)
+		return -1;
+	*out = v * mul;
+	return 0;
 }
 
 /* bad - one-line error about an option value */
@@ -338,6 +368,26 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 	case OPT_FLOOR:
 		o->floor = true;
 		break;
+	case OPT_STACKS:
+		if (!strcmp(arg, "off"))
+			o->stacks = RTSUP_STACKS_OFF;
+		else if (!strcmp(arg, "fp"))
+			o->stacks = RTSUP_STACKS_FP;
+		else if (!strcmp(arg, "dwarf"))
+			o->stacks = RTSUP_STACKS_DWARF;
+		else
+			return bad(st, "--stacks", arg, "want fp, dwarf or off");
+		break;
+	case OPT_STACK_SIZE:
+		if (stack_size_parse(arg, &o->stack_size))
+			return bad(st, "--stack-size", arg,
+				   "want bytes, a multiple of 8 from 512 to 64K (e.g. 8K)");
+		break;
+	case OPT_STACK_BUDGET:
+		if (strict_long(arg, 1, 1 << 20, &v))
+			return bad(st, "--stack-budget", arg, "want a number from 1 to 1048576");
+		o->stack_budget = v;
+		break;
 	case OPT_HIST:
 		if (!arg) {
 			o->hist = 1u << RTSUP_M_LATENCY;
@@ -482,6 +532,8 @@ int options_parse_flags(int argc, char **argv, struct options *o, unsigned int f
 	o->ndelims = 2;
 	o->fail_on = LEVEL_WARN;
 	o->can_max_ids = 4096;
+	o->stack_size = 8192;
+	o->stack_budget = RTSUP_STACK_BUDGET;
 	/* argp's own usage errors exit with our "tool error" status */
 	argp_err_exit_status = 1;
 	if (argc > 1 && (!strcmp(argv[1], "replay") || !strcmp(argv[1], "can-replay"))) {

@@ -52,6 +52,9 @@ struct options {
 	const char *on_level[16];	/* --on-level SPEC, checked by action_parse */
 	int non_level;
 	bool ros2_diag;		/* --ros2-diagnostics (or the config's ros2_diagnostics:) */
+	__u32 stacks;		/* --stacks: enum rtsup_stacks */
+	__u32 stack_size;	/* --stack-size: DWARF bytes of user stack per event */
+	__u32 stack_budget;	/* --stack-budget: records per thread per interval */
 	bool floor;		/* --floor (hidden): empty programs on the same hooks, for make bench */
 };
 

@@ -14,6 +14,7 @@
 #include "collect/liveness.h"
 #include "cycle.h"
 #include "collect/targets.h"
+#include "collect/unwind.h"
 #include "model/syscalls.h"
 #include "judge/supervise.h"
 #include "can.h"	/* the skeleton's .bss holds can_if_slot */
@@ -58,8 +59,71 @@ static int on_event(void *ctx, void *data, size_t len)
 		return 0;
 	if (c->on_rare)
 		c->on_rare(c->sink_ctx, data);
+	/* a new target process: its mappings now, while it is there */
+	if (c->unwinder && ((struct rtsup_event *)data)->type == RTSUP_EV_NEW)
+		unwind_note_process(c->unwinder, ((struct rtsup_event *)data)->tgid);
 	collector_take_event(c, data);
 	return 0;
+}
+
+/* on_stack_rec - stack ring buffer callback: unwind, symbolize, count */
+static int on_stack_rec(void *ctx, void *data, size_t len)
+{
+	static struct stack_frame frames[STACK_MAX_FRAMES];
+	struct collector *c = ctx;
+	const struct rtsup_stack_rec *r = data;
+	int n;
+
+	if (len < sizeof(*r))
+		return 0;
+	n = unwind_record(c->unwinder, r, len, frames, STACK_MAX_FRAMES);
+	if (n < 0)
+		return 0;	/* an exec mark: no event */
+	c->stacks.records++;
+	stackagg_add(&c->stacks, r->tid, r->tgid, NULL, r->reason, r->nr, frames, n);
+	if (c->on_stack) {
+		struct stack_maps m;
+
+		unwind_maps(c->unwinder, r->tgid, &m);
+		c->on_stack(c->sink_ctx, r, frames, n, &m);
+	}
+	return 0;
+}
+
+/* open_stacks - --stacks: the unwinder and the stack ring buffer */
+static int open_stacks(struct collector *c)
+{
+	if (!c->skel->rodata->cfg_stacks)
+		return 0;
+	c->unwinder = unwinder_new();
+	c->stack_rb = ring_buffer__new(bpf_map__fd(c->skel->maps.stacks), on_stack_rec, c, NULL);
+	if (!c->unwinder || !c->stack_rb) {
+		fprintf(stderr, "rtsup-trace: --stacks: cannot create the stack ring buffer: %s\n",
+			strerror(errno));
+		return -1;
+	}
+	return 0;
+}
+
+/* read_stack_counters - the stack records the kernel side could not send */
+static void read_stack_counters(struct collector *c)
+{
+	int ncpu = libbpf_num_possible_cpus(), fd = bpf_map__fd(c->skel->maps.stack_counters);
+	__u64 vals[ncpu > 0 ? ncpu : 1], sum;
+	__u32 k;
+	int i;
+
+	if (!c->stack_rb)
+		return;
+	/* what the kernel has sent so far counts in this interval */
+	ring_buffer__consume(c->stack_rb);
+	for (k = 0; k < RTSUP_STK_NR; k++) {
+		if (ncpu <= 0 || bpf_map_lookup_elem(fd, &k, vals))
+			continue;
+		for (sum = 0, i = 0; i < ncpu; i++)
+			sum += vals[i];
+		c->stacks.kernel[k] = sum;
+	}
 }
 
 void collector_take_event(struct collector *c, const struct rtsup_event *e)
@@ -99,6 +163,8 @@ static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, bool 
 	/* the hooks look a thread up only when its bits are set (rtsup.h) */
 	tid_mark_new(c->skel->bss->tidmask, c->skel->bss->wakemask, key);
 	/* the kernel may have added it since attach: keep its entry */
+	if (c->unwinder && process)
+		unwind_note_process(c->unwinder, tgid);
 	if (bpf_map_update_elem(bpf_map__fd(c->skel->maps.threads), &key, t, BPF_NOEXIST) &&
 	    errno != EEXIST) {
 		if (errno != E2BIG)
@@ -134,6 +200,8 @@ int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct opt
 		fprintf(stderr, "rtsup-trace: cannot create the ring buffer: %s\n", strerror(errno));
 		return -1;
 	}
+	if (open_stacks(c))
+		return -1;
 	err = targets_scan(&o->targets, add_initial, c);
 	if (err) {
 		fprintf(stderr, "rtsup-trace: adding targets: %s\n", strerror(-err));
@@ -151,6 +219,8 @@ int collector_poll(struct collector *c, int ms)
 {
 	int err = ring_buffer__poll(c->rb, ms);
 
+	if (c->stack_rb)
+		ring_buffer__consume(c->stack_rb);
 	return err == -EINTR ? 0 : err;
 }
 
@@ -449,6 +519,7 @@ int collector_sample(struct collector *c)
 	mark_absent(&c->model, !err);
 	read_unsafe_sys(c);
 	read_counters(c);
+	read_stack_counters(c);
 	return err;
 }
 
@@ -570,11 +641,15 @@ void collector_apply_rules(struct collector *c, const struct supervisor *s)
 void collector_clear_events(struct collector *c)
 {
 	eventlog_clear(&c->events);
+	stackagg_interval_end(&c->stacks);
 }
 
 void collector_free(struct collector *c)
 {
 	ring_buffer__free(c->rb);
+	ring_buffer__free(c->stack_rb);
+	unwinder_free(c->unwinder);
+	stackagg_free(&c->stacks);
 	eventlog_free(&c->events);
 	model_free(&c->model);
 	free(c->batch_keys);

@@ -10,10 +10,13 @@
 #include <stdbool.h>
 #include "model/eventlog.h"
 #include "model/model.h"
+#include "model/stackagg.h"
 #include "options.h"
 
 struct rtsup_bpf;
 struct ring_buffer;
+struct unwinder;
+struct stack_maps;
 
 /* Thread map entries per read at first: 64 entries of ~5 KiB. */
 #define COLLECTOR_BATCH 64
@@ -36,9 +39,16 @@ struct collector {
 	struct rtsup_thread *batch_vals;
 	__u32 batch_cap;
 	bool no_batch;			/* the kernel has no batch operations */
+	/* --stacks: the stack records, their own ring so events keep their order */
+	struct ring_buffer *stack_rb;
+	struct unwinder *unwinder;
+	struct stackagg stacks;		/* where in the code, per thread, reason, stack */
 	/* sinks that want every cycle and event as it comes (--record, --perfetto) */
 	void (*on_cycle)(void *ctx, const struct rtsup_cycle_rec *r);
 	void (*on_rare)(void *ctx, const struct rtsup_event *e);
+	/* --stacks: each stack record, symbolized (reason and nr as in stackagg) */
+	void (*on_stack)(void *ctx, const struct rtsup_stack_rec *r,
+			 const struct stack_frame *f, int n, const struct stack_maps *m);
 	void *sink_ctx;
 };
 

@@ -62,8 +62,26 @@ static bool probe_tp_btf(void)
 	return ok;
 }
 
-/* select_programs - keep one of the two program sets; CAN only with --can */
-static void select_programs(struct bpf_object *obj, bool btf, bool can)
+/* has_tracepoint - does this kernel have the tracepoint (its BTF typedef)? */
+static bool has_tracepoint(const char *name)
+{
+	struct btf *btf = btf__load_vmlinux_btf();
+	char tn[96];
+	bool ok;
+
+	if (!btf)
+		return false;
+	snprintf(tn, sizeof(tn), "btf_trace_%s", name);
+	ok = btf__find_by_name_kind(btf, tn, BTF_KIND_TYPEDEF) > 0;
+	btf__free(btf);
+	return ok;
+}
+
+/*
+ * select_programs - keep one of the two program sets; CAN only with --can,
+ * the user page fault hook only with --stacks
+ */
+static void select_programs(struct bpf_object *obj, bool btf, bool can, bool faults)
 {
 	struct bpf_program *p;
 
@@ -71,8 +89,10 @@ static void select_programs(struct bpf_object *obj, bool btf, bool can)
 		const char *sec = bpf_program__section_name(p);
 		bool is_btf = !strncmp(sec, "tp_btf/", 7);
 		bool is_can = !strncmp(bpf_program__name(p), "can_", 4);
+		bool is_fault = !strncmp(bpf_program__name(p), "page_fault_", 11);
 
-		bpf_program__set_autoload(p, is_btf == btf && (can || !is_can));
+		bpf_program__set_autoload(p, is_btf == btf && (can || !is_can) &&
+					  (faults || !is_fault));
 	}
 }
 
@@ -107,7 +127,7 @@ static int floor_start(struct loader *l, const struct options *o)
 	if (!e)
 		return -errno;
 	l->floor = e;
-	select_programs(e->obj, l->tp_btf, o->can);
+	select_programs(e->obj, l->tp_btf, o->can, l->fault_stacks);
 	/* its maps are never used: keep them small */
 	bpf_object__for_each_map(m, e->obj)
 		if (bpf_map__type(m) != BPF_MAP_TYPE_RINGBUF)
@@ -138,7 +158,12 @@ int loader_start(struct loader *l, const struct options *o)
 		return -1;
 	}
 	l->skel = s;
-	select_programs(s->obj, l->tp_btf, o->can);
+	/* where in the code of page faults: x86's exceptions:page_fault_user */
+	l->fault_stacks = o->stacks && has_tracepoint("page_fault_user");
+	if (o->stacks && !l->fault_stacks)
+		fprintf(stderr, "rtsup-trace: --stacks: no page_fault_user tracepoint on this "
+				"kernel: page faults are counted without their stacks\n");
+	select_programs(s->obj, l->tp_btf, o->can, l->fault_stacks);
 	if (o->floor)	/* none of ours: floor_start attaches the empty ones */
 		bpf_object__for_each_program(p, s->obj)
 			bpf_program__set_autoload(p, false);
@@ -162,6 +187,14 @@ int loader_start(struct loader *l, const struct options *o)
 	bpf_map__set_max_entries(s->maps.threads, o->max_threads);
 	bpf_map__set_max_entries(s->maps.unsafe_sys, o->max_threads * 4);
 	bpf_map__set_max_entries(s->maps.thread_cfg, o->max_threads);
+	s->rodata->cfg_stacks = o->stacks;
+	s->rodata->cfg_stack_size = o->stack_size;
+	s->rodata->cfg_stack_budget = o->stack_budget;
+	bpf_map__set_max_entries(s->maps.stack_budget, o->max_threads);
+	/* room for a budget's worth of DWARF records of a few threads */
+	if (o->stacks)
+		bpf_map__set_max_entries(s->maps.stacks, o->stacks == RTSUP_STACKS_DWARF ?
+					 16 << 20 : 1 << 20);
 	/* a cycle record per cycle: 4 MiB hold seconds of a busy machine */
 	if (s->rodata->cfg_record)
 		bpf_map__set_max_entries(s->maps.cycles, 4 << 20);

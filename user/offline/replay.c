@@ -18,6 +18,9 @@
 #include "offline/replay.h"
 #include "sinks/sinks.h"
 #include "collect/targets.h"
+#include "collect/procmaps.h"
+#include "collect/unwind.h"
+#include "sinks/output_stacks.h"
 
 struct replay {
 	struct collector c;	/* the data the outputs read; no kernel behind it */
@@ -121,6 +124,51 @@ static void on_event(struct replay *r, const struct rtsup_event *e)
 	collector_take_event(c, e);
 }
 
+/* unwinder_of - replay's symbolizer, made when the trace has stacks */
+static struct unwinder *unwinder_of(struct replay *r)
+{
+	if (!r->c.unwinder)
+		r->c.unwinder = unwinder_new();
+	return r->c.unwinder;
+}
+
+/* on_module - a recorded mapping of a process, for the stacks that follow */
+static void on_module(struct replay *r, const struct rec_module *rm)
+{
+	struct unwinder *u = unwinder_of(r);
+	struct procmap m = { .start = rm->start, .end = rm->end, .pgoff = rm->pgoff };
+	char bid[sizeof(rm->build_id) + 1];
+
+	if (!u)
+		return;
+	memcpy(m.path, rm->path, sizeof(m.path) - 1);
+	memcpy(bid, rm->build_id, sizeof(rm->build_id));
+	bid[sizeof(rm->build_id)] = '\0';
+	unwind_offline_map(u, rm->tgid, rm->gen, &m, rm->flags, bid);
+}
+
+/* on_stack - a recorded stack: symbolized here, from the same binaries */
+static void on_stack(struct replay *r, const struct rec_stack *rs)
+{
+	static struct stack_frame frames[STACK_MAX_FRAMES];
+	struct unwinder *u = unwinder_of(r);
+	struct stack_entry e = { .reason = rs->reason, .nr = rs->nr };
+	char what[64], text[4096];
+	int n;
+
+	if (!u)
+		return;
+	n = unwind_offline_pcs(u, rs->tgid, rs->pcs, rs->npcs < RTSUP_STACK_DEPTH ?
+			       rs->npcs : RTSUP_STACK_DEPTH, frames, STACK_MAX_FRAMES);
+	r->c.stacks.records++;
+	stackagg_add(&r->c.stacks, rs->tid, rs->tgid, NULL, rs->reason, rs->nr, frames, n);
+	if (!r->pf)
+		return;
+	stack_what(&e, what, sizeof(what));
+	stack_format(frames, n, "\n<- ", text, sizeof(text));
+	perfetto_stack(r->pf, rs->ts, rs->tgid, rs->tid, what, text);
+}
+
 /* on_mark - an interval (or the run) ended: judge and report it */
 static void on_mark(struct replay *r, const struct rec_interval *ri, bool end)
 {
@@ -179,6 +227,8 @@ int replay_run(const struct options *o, struct supervisor *s)
 		struct rec_cycle c;
 		struct rtsup_event e;
 		struct rec_interval i;
+		struct rec_stack st;
+		struct rec_module m;
 		char raw[REC_MAX_PAYLOAD];
 	} buf;
 	struct replay r;
@@ -225,6 +275,12 @@ int replay_run(const struct options *o, struct supervisor *s)
 		case REC_INTERVAL:
 		case REC_END:
 			on_mark(&r, &buf.i, type == REC_END);
+			break;
+		case REC_STACK:
+			on_stack(&r, &buf.st);
+			break;
+		case REC_MODULE:
+			on_module(&r, &buf.m);
 			break;
 		}
 	}

@@ -10,8 +10,15 @@
 #include "sinks/output_hist.h"
 #include "model/syscalls.h"
 #include "sinks/output_can.h"
+#include "sinks/output_stacks.h"
 
 #define MAX_EVENT_LINES 10
+
+/* stacks_shown - --stacks live, or a replayed trace that has stacks */
+static bool stacks_shown(const struct collector *c)
+{
+	return c->o->stacks || c->unwinder;
+}
 
 static const char *const event_names[] = {
 	[RTSUP_EV_MISS] = "deadline_miss",
@@ -167,6 +174,9 @@ static json_t *json_thread(const struct collector *c, const struct supervisor *s
 	if (window)
 		json_object_set_new(o, "interval", json_span(&tm->win, tm, true));
 	json_object_set_new(o, "total", json_span(&tm->life, tm, false));
+	/* --stacks: where in the code its RT-unsafe events came from */
+	if (stacks_shown(c))
+		json_object_set_new(o, "stacks", stacks_json(&c->stacks, tm->tid, window));
 	/* --hist: the summary's lifetime ones, and each interval's with --hist-interval */
 	if (c->o->hist && hist_shown(tm) && (!window || c->o->hist_interval))
 		json_object_set_new(json_object_get(o, window ? "interval" : "total"), "hist",
@@ -373,6 +383,8 @@ static void json_interval(const struct collector *c, const struct supervisor *sv
 	json_threads(c, sv, true);
 	if (sv->can)
 		json_field("can", can_json(sv->can, &sv->cfg, sv->now, interval, false));
+	if (stacks_shown(c))
+		json_field("stack_records", stacks_health_json(&c->stacks));
 	json_list_begin("events", &n);
 	for (i = 0; i < (int)c->events.n; i++)
 		json_item(&n, json_event(c, &c->events.ev[i]));
@@ -417,6 +429,8 @@ static void json_summary(const struct collector *c, const struct supervisor *sv,
 						    level_name(v->level), "what", v->what, "checks",
 						    json_checks(v->fact, v->nfact, text)));
 	}
+	if (stacks_shown(c))
+		json_object_set_new(o, "stack_records", stacks_health_json(&c->stacks));
 	json_object_set_new(o, "violations", vs);
 	json_object_set_new(o, "violations_not_listed", json_integer(sv->v_dropped));
 	json_fields(o, true);	/* the small rest, after the threads */
@@ -569,6 +583,8 @@ static void table_interval(const struct collector *c, const struct supervisor *s
 	hidden += c->events.folded + c->events.dropped;
 	if (hidden)
 		printf("  ... %llu more events\n", (unsigned long long)hidden);
+	if (stacks_shown(c))
+		stacks_table(stdout, &c->stacks, &c->model, true);
 	printf("\n");
 	if (c->o->hist_interval)
 		hist_table(c, sv, true);
@@ -614,6 +630,8 @@ static void table_summary(const struct collector *c, const struct supervisor *sv
 			       (unsigned long long)tm->sys[j].total);
 		printf("\n");
 	}
+	if (stacks_shown(c))
+		stacks_table(stdout, &c->stacks, &c->model, false);
 	if (sv->can)
 		can_table(sv->can, &sv->cfg, sv->now, elapsed, true);
 	/* every violation, with when and what */

@@ -259,6 +259,21 @@ void perfetto_event(struct perfetto *p, const struct rtsup_event *e)
 				  (json_int_t)e->tid, "args", a));
 }
 
+void perfetto_stack(struct perfetto *p, __u64 ts, __u32 tgid, __u32 tid, const char *what,
+		    const char *stack)
+{
+	char t[32], prefix[64], name[96];
+
+	if (!p || p->err)
+		return;
+	snprintf(name, sizeof(name), "where: %s", what);
+	fmt_us(t, sizeof(t), ts);
+	snprintf(prefix, sizeof(prefix), "\"ts\":%s,", t);
+	emit(p, prefix, json_pack("{s:s,s:s,s:s,s:I,s:I,s:{s:s}}", "ph", "i", "s", "t", "name",
+				  name, "pid", (json_int_t)tgid, "tid", (json_int_t)tid, "args",
+				  "stack", stack));
+}
+
 int perfetto_close(struct perfetto *p, char *err, size_t errlen)
 {
 	int e;

@@ -22,6 +22,12 @@ void perfetto_thread(struct perfetto *p, __u32 tgid, __u32 tid, const char *comm
 void perfetto_cycle(struct perfetto *p, __u32 tgid, __u32 tid, const struct rtsup_cycle *c);
 /* perfetto_event - a rare event as an instant event on the thread's track */
 void perfetto_event(struct perfetto *p, const struct rtsup_event *e);
+/*
+ * perfetto_stack - where in the code (--stacks): an instant event "where:
+ * WHAT" at the RT-unsafe event's time, the symbolized stack in its args
+ */
+void perfetto_stack(struct perfetto *p, __u64 ts, __u32 tgid, __u32 tid, const char *what,
+		    const char *stack);
 /* perfetto_close - finish the JSON and close; -1 with one line in err */
 int perfetto_close(struct perfetto *p, char *err, size_t errlen);
 

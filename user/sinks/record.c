@@ -36,7 +36,9 @@
 _Static_assert(sizeof(struct rec_thread) <= REC_MAX_PAYLOAD &&
 		       sizeof(struct rec_cycle) <= REC_MAX_PAYLOAD &&
 		       sizeof(struct rtsup_event) <= REC_MAX_PAYLOAD &&
-		       sizeof(struct rec_interval) <= REC_MAX_PAYLOAD,
+		       sizeof(struct rec_interval) <= REC_MAX_PAYLOAD &&
+		       sizeof(struct rec_stack) <= REC_MAX_PAYLOAD &&
+		       sizeof(struct rec_module) <= REC_MAX_PAYLOAD,
 	       "a record type does not fit REC_MAX_PAYLOAD");
 
 struct rec_writer {
@@ -66,6 +68,10 @@ static size_t rec_size(unsigned int type)
 	case REC_INTERVAL:
 	case REC_END:
 		return sizeof(struct rec_interval);
+	case REC_STACK:
+		return sizeof(struct rec_stack);
+	case REC_MODULE:
+		return sizeof(struct rec_module);
 	}
 	return 0;
 }
@@ -74,7 +80,8 @@ static const char *rec_type_name(unsigned int type)
 {
 	static const char *const names[] = {
 		[REC_THREAD] = "thread", [REC_CYCLE] = "cycle", [REC_EVENT] = "event",
-		[REC_INTERVAL] = "interval", [REC_END] = "end",
+		[REC_INTERVAL] = "interval", [REC_END] = "end", [REC_STACK] = "stack",
+		[REC_MODULE] = "module",
 	};
 
 	return type < sizeof(names) / sizeof(names[0]) && names[type] ? names[type]

@@ -38,6 +38,8 @@ enum rec_type {
 	REC_EVENT,		/* struct rtsup_event: one rare event */
 	REC_INTERVAL,		/* struct rec_interval: an interval ended */
 	REC_END,		/* struct rec_interval: the run ended */
+	REC_STACK,		/* struct rec_stack: a user stack at an RT-unsafe event (--stacks) */
+	REC_MODULE,		/* struct rec_module: a file mapped executable, for REC_STACK */
 };
 
 /* A thread's identity and its counters that are not per cycle. */
@@ -77,6 +79,33 @@ struct rec_thread {
 struct rec_cycle {
 	__u64 end;		/* CLOCK_MONOTONIC ns when the cycle finished */
 	struct rtsup_cycle_rec r;
+};
+
+/*
+ * A user stack as unwound live: its pcs, symbolized at replay from the
+ * REC_MODULEs of its process (the same binaries, found by path and checked
+ * by build-id), on this machine or another.
+ */
+struct rec_stack {
+	__u64 ts;
+	__u32 tid;
+	__u32 tgid;
+	__u32 reason;		/* enum rtsup_unsafe, RTSUP_STACK_FAULT */
+	__u32 nr;
+	__u32 npcs;
+	__u32 pad;
+	__u64 pcs[RTSUP_STACK_DEPTH];	/* the exact pc, then return addresses */
+};
+
+/* One executable file mapping of a process; a new gen starts its set again. */
+struct rec_module {
+	__u64 start, end, pgoff;
+	__u32 tgid;
+	__u32 gen;		/* the set of mappings it belongs to */
+	__u32 flags;		/* FRAME_REPLACED, FRAME_DELETED */
+	__u32 pad;
+	char path[256];
+	char build_id[48];	/* hex, "" unknown */
 };
 
 struct rec_interval {

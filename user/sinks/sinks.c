@@ -8,6 +8,9 @@
 #include <time.h>
 #include <unistd.h>
 #include "sinks/sinks.h"
+#include "sinks/output_stacks.h"
+#include "collect/procmaps.h"
+#include "collect/unwind.h"
 
 /* read_file - a whole small text file, malloc'd; NULL if unreadable */
 static char *read_file(const char *path)
@@ -93,6 +96,85 @@ static void sink_event(void *ctx, const struct rtsup_event *e)
 		sk->failed = true;
 }
 
+/* maps_new - has this set of the process's mappings not been written yet? */
+static bool maps_new(struct sinks *sk, __u32 tgid, __u32 gen)
+{
+	void *nm;
+	int i;
+
+	for (i = 0; i < sk->nmaps_written; i++) {
+		if (sk->maps_written[i].tgid != tgid)
+			continue;
+		if (sk->maps_written[i].gen == gen)
+			return false;
+		sk->maps_written[i].gen = gen;
+		return true;
+	}
+	nm = realloc(sk->maps_written, (i + 1) * sizeof(*sk->maps_written));
+	if (!nm)
+		return true;
+	sk->maps_written = nm;
+	sk->maps_written[i].tgid = tgid;
+	sk->maps_written[i].gen = gen;
+	sk->nmaps_written++;
+	return true;
+}
+
+/*
+ * record_stack - the stack's pcs for replay, after its process's mappings
+ * (REC_MODULE) whenever they were read again
+ */
+static int record_stack(struct sinks *sk, const struct rtsup_stack_rec *r,
+			const struct stack_frame *f, int n, const struct stack_maps *m)
+{
+	struct rec_module rm;
+	struct rec_stack rs;
+	int i;
+
+	if (maps_new(sk, r->tgid, m->gen)) {
+		for (i = 0; i < m->n; i++) {
+			memset(&rm, 0, sizeof(rm));
+			rm.start = m->maps[i].start;
+			rm.end = m->maps[i].end;
+			rm.pgoff = m->maps[i].pgoff;
+			rm.tgid = r->tgid;
+			rm.gen = m->gen;
+			rm.flags = m->flags[i];
+			snprintf(rm.path, sizeof(rm.path), "%s", m->maps[i].path);
+			snprintf(rm.build_id, sizeof(rm.build_id), "%s", m->bids[i]);
+			if (rec_write(sk->rec, REC_MODULE, &rm, sizeof(rm), sk->err, sizeof(sk->err)))
+				return -1;
+		}
+	}
+	memset(&rs, 0, sizeof(rs));
+	rs.ts = r->ts;
+	rs.tid = r->tid;
+	rs.tgid = r->tgid;
+	rs.reason = r->reason;
+	rs.nr = r->nr;
+	for (i = 0; i < n && i < RTSUP_STACK_DEPTH; i++)
+		rs.pcs[i] = f[i].pc;
+	rs.npcs = i;
+	return rec_write(sk->rec, REC_STACK, &rs, sizeof(rs), sk->err, sizeof(sk->err));
+}
+
+/* sink_stack - collector callback: a symbolized stack, to Perfetto and the record */
+static void sink_stack(void *ctx, const struct rtsup_stack_rec *r, const struct stack_frame *f,
+		       int n, const struct stack_maps *m)
+{
+	struct sinks *sk = ctx;
+	struct stack_entry e = { .reason = r->reason, .nr = r->nr };
+	char what[64], text[4096];
+
+	if (sk->rec && !sk->failed && record_stack(sk, r, f, n, m))
+		sk->failed = true;
+	if (!sk->pf)
+		return;
+	stack_what(&e, what, sizeof(what));
+	stack_format(f, n, "\n<- ", text, sizeof(text));
+	perfetto_stack(sk->pf, r->ts, r->tgid, r->tid, what, text);
+}
+
 /* header - where and when, and the configuration */
 static void header(struct rec_header *h, const struct options *o, const struct supervisor *s,
 		   const struct collector *c)
@@ -136,6 +218,7 @@ int sinks_open(struct sinks *sk, const struct options *o, const struct superviso
 	}
 	c->on_cycle = sink_cycle;
 	c->on_rare = sink_event;
+	c->on_stack = sink_stack;
 	c->sink_ctx = sk;
 	return 0;
 }
@@ -245,5 +328,7 @@ int sinks_close(struct sinks *sk, const struct collector *c, const struct self_i
 	}
 	free(sk->named);
 	sk->named = NULL;
+	free(sk->maps_written);
+	sk->maps_written = NULL;
 	return err;
 }

@@ -23,6 +23,9 @@ struct sinks {
 	int nnamed;
 	int cap;
 	bool failed;		/* a write failed: the run ends with that error */
+	/* --stacks --record: the mapping set written last, per process */
+	struct { __u32 tgid, gen; } *maps_written;
+	int nmaps_written;
 	char err[256];
 };
 
