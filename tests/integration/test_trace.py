@@ -691,16 +691,6 @@ if rest and not what:
 '''
 
 
-def startup_slack(n):
-    """Cycles of LOOP_PY the tracer may count as start-up. Python's time.sleep
-    makes its own deadline from its clock read, a few us after ours: on real
-    time the releases lie within 1/64 of a period of the 2 ms grid, the period
-    settles at once and no cycle is start-up. On an emulated CPU that delay
-    varies by more, and the period settles a few cycles later (5 to 10 of 400
-    seen in the guests): up to 5 %, there only."""
-    return n // 20 if EMULATED else 0
-
-
 def run_cmd_traced(tmp_path, cmd, trace_args=()):
     """rtsup-trace -j -- CMD: (summary, stderr) once the command ended."""
     r = subprocess.run([str(TRACE), "-j"] + list(trace_args) + ["--"] + cmd,
@@ -722,7 +712,7 @@ def test_exec_starts_the_cycles_again(tmp_path):
     [t] = [t for t in summary["threads"] if t["mode"] == "delimiter"]
     tot = t["total"]
     # the first sleep of the new program opens its first cycle, its exit cuts the last
-    assert n2 - 2 - startup_slack(n2) <= tot["cycles"] <= n2, (tot["cycles"], err)
+    assert n2 - 2 <= tot["cycles"] <= n2, (tot["cycles"], err)
     assert tot["unsafe"]["total"] == 0, (tot["unsafe"], tot.get("unsafe_syscalls"))
 
 
@@ -805,7 +795,7 @@ def test_reused_tid_is_a_new_thread(tmp_path):
             tr.proc.kill()
     t = threads_by_tid(summary)[first.pid]
     # the second program's cycles (its first sleep opens the first, its exit cuts the last)
-    assert n2 - 2 - startup_slack(n2) <= t["total"]["cycles"] <= n2, (t["total"]["cycles"], err)
+    assert n2 - 2 <= t["total"]["cycles"] <= n2, (t["total"]["cycles"], err)
 
 
 # A second thread (not the leader) runs the loop of LOOP_PY, then execs it:
@@ -836,4 +826,4 @@ def test_exec_from_a_thread_takes_the_leaders_tid(tmp_path):
     leader = [t for t in summary["threads"] if t["tid"] == t["tgid"]]
     assert len(leader) == 1, summary["threads"]
     tot = leader[0]["total"]
-    assert n2 - 2 - startup_slack(n2) <= tot["cycles"] <= n2, (tot["cycles"], err)
+    assert n2 - 2 <= tot["cycles"] <= n2, (tot["cycles"], err)
