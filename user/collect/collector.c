@@ -69,6 +69,18 @@ void collector_take_event(struct collector *c, const struct rtsup_event *e)
 	ev.comm[RTSUP_COMM_LEN - 1] = '\0';
 	comm_sanitize(ev.comm, RTSUP_COMM_LEN);
 	c->events_total++;
+	if (ev.type == RTSUP_EV_MISS) {
+		ev.cause.who.comm[RTSUP_COMM_LEN - 1] = '\0';
+		comm_sanitize(ev.cause.who.comm, RTSUP_COMM_LEN);
+		ev.cause.waker.comm[RTSUP_COMM_LEN - 1] = '\0';
+		comm_sanitize(ev.cause.waker.comm, RTSUP_COMM_LEN);
+		for (int i = 0; i < RTSUP_CAUSE_TOP; i++) {
+			ev.cause.top[i].who.comm[RTSUP_COMM_LEN - 1] = '\0';
+			comm_sanitize(ev.cause.top[i].who.comm, RTSUP_COMM_LEN);
+		}
+		causes_add(&c->causes_win, ev.tid, &ev.cause);
+		causes_add(&c->causes_life, ev.tid, &ev.cause);
+	}
 	eventlog_add(&c->events, &ev);
 }
 
@@ -402,6 +414,8 @@ int collector_sample(struct collector *c)
 	collector_poll(c, 0);
 	/* what came in the interval (the poll above was its last), in time order */
 	eventlog_finish(&c->events);
+	causes_sort(&c->causes_win);
+	causes_sort(&c->causes_life);
 	/* a thread not in the map any more (reaped) had an empty interval */
 	for (i = 0; i < c->model.n; i++) {
 		c->model.t[i].seen = false;
@@ -537,12 +551,15 @@ void collector_apply_rules(struct collector *c, const struct supervisor *s)
 void collector_clear_events(struct collector *c)
 {
 	eventlog_clear(&c->events);
+	causes_clear(&c->causes_win);
 }
 
 void collector_free(struct collector *c)
 {
 	ring_buffer__free(c->rb);
 	eventlog_free(&c->events);
+	causes_free(&c->causes_win);
+	causes_free(&c->causes_life);
 	model_free(&c->model);
 	free(c->batch_keys);
 	free(c->batch_vals);
