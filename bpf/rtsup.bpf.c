@@ -94,7 +94,8 @@ struct {
  * run-queue lock. A plain array: its CPU's slot is one address.
  */
 #define WHY_CPUS	512
-struct why_slot why_cpu[WHY_CPUS];
+struct why_slot why_cpu[WHY_CPUS][WHY_WAITERS];
+_Static_assert(WHY_WAITERS == 2, "on_switch checks the two slots of its CPU");
 
 struct {
 	__uint(type, BPF_MAP_TYPE_HASH);
@@ -356,14 +357,14 @@ static __always_inline void who_fill(struct rtsup_who *w, struct task_struct *p,
 	bpf_probe_read_kernel(w->comm, sizeof(w->comm), &p->comm);
 }
 
-/* why_slot_of - the wait slot of a CPU, NULL past the array */
+/* why_slot_of - the WHY_WAITERS wait slots of a CPU, NULL past the array */
 static __always_inline struct why_slot *why_slot_of(__u32 cpu)
 {
 	if (cpu >= WHY_CPUS)
 		return NULL;
 	/* the mask bounds the index for the verifier, whatever clang kept */
 	barrier_var(cpu);
-	return &why_cpu[cpu & (WHY_CPUS - 1)];
+	return why_cpu[cpu & (WHY_CPUS - 1)];
 }
 
 /*
@@ -373,11 +374,16 @@ static __always_inline struct why_slot *why_slot_of(__u32 cpu)
 static __always_inline void why_settle(struct rtsup_thread *t)
 {
 	struct why_slot *s = why_slot_of(bpf_get_smp_processor_id());
+	__u32 i;
 
-	if (!s || s->tid != t->tid || !(s->state & WHY_RAN))
+	if (!s)
 		return;
-	why_take(&t->why, &t->cs, s);
-	s->tid = 0;
+	for (i = 0; i < WHY_WAITERS; i++) {
+		if (s[i].tid != t->tid || !(s[i].state & WHY_RAN))
+			continue;
+		why_take(&t->why, &t->cs, &s[i]);
+		s[i].tid = 0;
+	}
 }
 
 /* why_wakeup - a target is woken: it waits for its CPU from now (cause.h) */
@@ -385,13 +391,16 @@ static __always_inline void why_wakeup(struct task_struct *p, __u32 tid, __u64 n
 				       const int btf)
 {
 	struct why_slot *s = why_slot_of(TREAD(btf, p, thread_info.cpu));
+	int i;
 
 	if (!s)
 		return;
-	if (!why_armable(s, tid, now)) {
+	i = why_pick(s, tid, now);
+	if (i < 0 || i >= WHY_WAITERS) {
 		count(RTSUP_C_WHY_BUSY);
 		return;
 	}
+	s += i;
 	why_arm(s, tid, WHY_WOKEN, now);
 	s->policy = TREAD(btf, p, policy);
 	s->prio = why_rt(s->policy) ? (__s32)TREAD(btf, p, rt_priority) : 0;
@@ -679,7 +688,8 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 		cf = cfg(tc);
 		ev = cycle_delim_enter(t, &cf, now, expected, absolute,
 				       TREAD(btf, task, min_flt), TREAD(btf, task, maj_flt), &c);
-		why_delim(&t->why, ev, ev & CYC_EV_CLOSED ? c.cpu : 0, now, expected);
+		why_delim(&t->why, ev, ev & CYC_EV_CLOSED ? c.cpu : 0,
+			  ev & CYC_EV_CLOSED ? c.nominal : 0, now, expected);
 		note_wake(t);
 		if (ev & CYC_EV_CLOSED)
 			emit_cycle(ev, t, now, &c, now - expected);
@@ -744,9 +754,11 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 	struct why_slot *ws = why_slot_of(cpu);
 	__u64 now;
 
-	/* a target waits for this CPU: prev held it (one load when none does) */
-	if (ws && ws->tid && !(ws->state & WHY_RAN))
-		why_switch(ws, prev, prev_tid, next_tid, btf);
+	/* a target waits for this CPU: prev held it (two loads when none does) */
+	if (ws && ws[0].tid && !(ws[0].state & WHY_RAN))
+		why_switch(&ws[0], prev, prev_tid, next_tid, btf);
+	if (ws && ws[1].tid && !(ws[1].state & WHY_RAN))
+		why_switch(&ws[1], prev, prev_tid, next_tid, btf);
 	if (!maybe_target(prev_tid) && !maybe_target(next_tid) && !cfg_rt)
 		return 0;
 	/* one side is usually no target (idle, a kworker): no lookup for it */
@@ -798,8 +810,14 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 		ev = cycle_switch_out(pt, &cf, now, voluntary, TREAD(btf, prev, min_flt),
 				      TREAD(btf, prev, maj_flt), &c);
 		/* preempted while released: it waits for this CPU (cause.h) */
-		if (!voluntary && now && ws && why_armable(ws, prev_tid, now))
-			why_arm(ws, prev_tid, WHY_PREEMPTED, now);
+		if (!voluntary && now && ws) {
+			int i = why_pick(ws, prev_tid, now);
+
+			if (i >= 0 && i < WHY_WAITERS)
+				why_arm(&ws[i], prev_tid, WHY_PREEMPTED, now);
+			else
+				count(RTSUP_C_WHY_BUSY);
+		}
 		if (ev & CYC_EV_BLOCK)
 			emit(RTSUP_EV_UNSAFE, pt, now, RTSUP_U_BLOCK, 0);
 		if (ev & CYC_EV_CLOSED)

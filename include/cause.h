@@ -116,14 +116,31 @@ RTSUP_INLINE void why_arm(struct why_slot *s, __u32 tid, __u32 state, __u64 now)
 }
 
 /*
- * why_armable - may a wakeup of 'tid' take this slot? Not from another
- * target still waiting there (its wait stays whole): 0 then, the caller
- * counts it.
+ * why_armable - may a wait of 'tid' take this slot? Not from another
+ * target still waiting there, nor from one that ran and whose next event
+ * has not folded the wait yet (the preempted prev of the very switch that
+ * ran it): their waits stay whole.
  */
 RTSUP_INLINE int why_armable(const struct why_slot *s, __u32 tid, __u64 now)
 {
-	return !s->tid || s->tid == tid || (s->state & WHY_RAN) ||
-	       now - s->armed > WHY_STALE_NS;
+	return !s->tid || s->tid == tid || now - s->armed > WHY_STALE_NS;
+}
+
+/*
+ * why_pick - the slot of a CPU's WHY_WAITERS for a wait of 'tid': its own,
+ * else a free one; -1 when both hold other targets' waits (counted).
+ */
+RTSUP_INLINE int why_pick(const struct why_slot *s, __u32 tid, __u64 now)
+{
+	int i;
+
+	for (i = 0; i < WHY_WAITERS; i++)
+		if (s[i].tid == tid)
+			return i;
+	for (i = 0; i < WHY_WAITERS; i++)
+		if (why_armable(&s[i], tid, now))
+			return i;
+	return -1;
 }
 
 /*
@@ -257,11 +274,16 @@ RTSUP_INLINE void why_take(struct rtsup_why *w, const struct rtsup_cycle_state *
 }
 
 /*
- * cause_pick - the cause of a closed cycle: its biggest part (ties go to
- * the first in this order: the machine, other tasks, then itself), and
- * the task behind it. 'cpu' is the cycle's own CPU time.
+ * cause_pick - the cause of a late cycle: its biggest part (ties go to the
+ * first: the machine, then other tasks), and the task behind it. Its own
+ * CPU time ('cpu') is the cause only when it alone does not fit the
+ * nominal period, or when nothing else took any time: a cycle released
+ * late by a backlog whose work fits its period is late for that backlog;
+ * a part below 1/WHY_MINOR of its CPU time is too small to be the cause.
  */
-RTSUP_INLINE void cause_pick(struct rtsup_cause *c, __u64 cpu)
+#define WHY_MINOR	8
+
+RTSUP_INLINE void cause_pick(struct rtsup_cause *c, __u64 cpu, __u64 nominal)
 {
 	__u64 part[RTSUP_CAUSE_NR] = {
 		[RTSUP_CAUSE_TIMER] = c->timer_ns,
@@ -274,9 +296,11 @@ RTSUP_INLINE void cause_pick(struct rtsup_cause *c, __u64 cpu)
 	__u32 k, best = RTSUP_CAUSE_NONE;
 
 	c->cpu_ns = cpu;
-	for (k = RTSUP_CAUSE_TIMER; k < RTSUP_CAUSE_NR; k++)
+	for (k = RTSUP_CAUSE_TIMER; k < RTSUP_CAUSE_EXEC; k++)
 		if (part[k] > part[best])
 			best = k;
+	if (!part[best] || (nominal && cpu > nominal) || part[best] < cpu / WHY_MINOR)
+		best = RTSUP_CAUSE_EXEC;
 	c->kind = best;
 	c->ns = part[best];
 	switch (best) {
@@ -300,14 +324,14 @@ RTSUP_INLINE void cause_pick(struct rtsup_cause *c, __u64 cpu)
  * starts with nothing. Its release is already past (it will not sleep):
  * it starts late, its backlog, whose culprit is the late cycle's.
  */
-RTSUP_INLINE void why_delim(struct rtsup_why *w, __u32 ev, __u64 cpu, __u64 now,
-			    __u64 expected)
+RTSUP_INLINE void why_delim(struct rtsup_why *w, __u32 ev, __u64 cpu, __u64 nominal,
+			    __u64 now, __u64 expected)
 {
 	int miss = (ev & CYC_EV_MISS) && expected && expected <= now;
 
 	if (miss) {
 		w->out = w->cur;
-		cause_pick(&w->out, cpu);
+		cause_pick(&w->out, cpu, nominal);
 	}
 	why_reset(&w->cur);
 	w->out_ts = 0;

@@ -265,7 +265,13 @@ struct rtsup_why {
 #define WHY_PREEMPTED	2	/* the target was preempted and waits for the CPU */
 #define WHY_RAN		4	/* it runs again: the slot waits for why_take */
 
-/* One CPU's waiting target (an array indexed by CPU on the BPF side). */
+/*
+ * Targets that may wait for one CPU at once, each in its slot: two woken
+ * by one timer tick (a hog and its victim) both keep their wait whole.
+ */
+#define WHY_WAITERS	2
+
+/* One waiting target of a CPU (WHY_WAITERS per CPU on the BPF side). */
 struct why_slot {
 	__u32 tid;		/* the target waiting for this CPU, 0 = none */
 	__u32 state;		/* WHY_WOKEN or WHY_PREEMPTED, | WHY_RAN */
