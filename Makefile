@@ -124,6 +124,7 @@ $(OUT)/progs32/%: tests/integration/progs/%.c
 # Unit tests: plain C from include/ and user/, no kernel, no root.
 UNIT_DEPS_test_model  := user/model/model.c
 UNIT_DEPS_test_eventlog := user/model/eventlog.c
+UNIT_DEPS_test_causes := user/model/causes.c user/model/syscalls.c
 UNIT_DEPS_test_histdraw := user/sinks/histdraw.c
 UNIT_DEPS_test_progress := user/sinks/progress.c
 UNIT_DEPS_test_syscalls := user/model/syscalls.c

@@ -346,10 +346,15 @@ static __always_inline void emit_miss(struct rtsup_thread *t, __u64 now, __u64 l
 	bpf_ringbuf_submit(e, 0);
 }
 
-/* who_fill - name a task in a cause */
+/* who_fill - name a task in a cause; the idle task is tid 0 and no more */
 static __always_inline void who_fill(struct rtsup_who *w, struct task_struct *p, const int btf)
 {
 	w->tid = TREAD(btf, p, pid);
+	if (!w->tid) {
+		/* a clean release on an idle CPU: no name to read */
+		why_who_clear(w);
+		return;
+	}
 	w->tgid = TREAD(btf, p, tgid);
 	w->policy = TREAD(btf, p, policy);
 	w->prio = why_rt(w->policy) ? (__s32)TREAD(btf, p, rt_priority) :

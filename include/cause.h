@@ -275,7 +275,8 @@ RTSUP_INLINE void why_take(struct rtsup_why *w, const struct rtsup_cycle_state *
 
 /*
  * cause_pick - the cause of a late cycle: its biggest part (ties go to the
- * first: the machine, then other tasks), and the task behind it. Its own
+ * first: the machine, then other tasks), and the task behind it; for a
+ * wait or a preemption 'ns' is that task's share of it. Its own
  * CPU time ('cpu') is the cause only when it alone does not fit the
  * nominal period, or when nothing else took any time: a cycle released
  * late by a backlog whose work fits its period is late for that backlog;
@@ -306,7 +307,10 @@ RTSUP_INLINE void cause_pick(struct rtsup_cause *c, __u64 cpu, __u64 nominal)
 	switch (best) {
 	case RTSUP_CAUSE_WAIT:
 	case RTSUP_CAUSE_PREEMPT:
+		/* the culprit with its own share: others may have held the CPU too */
 		c->who = c->top[0].who;
+		if (c->top[0].ns)
+			c->ns = c->top[0].ns;
 		break;
 	case RTSUP_CAUSE_BLOCK:
 		c->who = c->waker;

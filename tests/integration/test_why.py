@@ -51,6 +51,12 @@ def by_culprit(gs, tid, kinds=None):
             (kinds is None or g["kind"] in kinds)]
 
 
+def foreign(gs, truth):
+    """Misses named after a task outside why_late: the machine is shared (other
+    tests' tracers and generators run on it); they are named, not hidden."""
+    return sum(g["count"] for g in gs if g["who"] and g["who"]["tgid"] != truth["pid"])
+
+
 def miss_events(intervals, tid):
     return [e for i in intervals for e in i["events"]
             if e["event"] == "deadline_miss" and e["tid"] == tid]
@@ -69,7 +75,9 @@ def test_fifo_hog_is_named(bpf):
     assert misses >= truth["bursts"], (truth, gs)
     hog = by_culprit(gs, truth["other_tid"])
     named = sum(g["count"] for g in hog)
-    assert named >= 0.95 * misses, gs
+    others = foreign(gs, truth)
+    assert others <= 0.2 * misses, gs
+    assert named >= 0.95 * (misses - others), gs
     assert all(g["who"]["comm"] == "why-hog" and g["who"]["prio"] == 60 and
                g["who"]["policy"] == "SCHED_FIFO" for g in hog), hog
     # each burst makes why-rt wait (woken inside it) or be preempted (running
@@ -79,6 +87,7 @@ def test_fifo_hog_is_named(bpf):
     # (tens of us; 200 us each)
     held = sum(g["total_ns"] for g in by_culprit(gs, truth["other_tid"], ("wait", "preemption")))
     assert held >= truth["bursts"] * (3 * MS - 1 * MS - 200000), (truth, gs)
+    # the hog's share of one cycle's wait is one burst at most
     for g in by_culprit(gs, truth["other_tid"], ("wait", "preemption")):
         assert g["max_ns"] <= truth["burst_max_ns"] + 200000, (truth, g)
     # each miss event says it in JSON too
@@ -123,9 +132,11 @@ def test_preemptor_is_named(bpf):
     gs = groups(rt)
     misses = sum(g["count"] for g in gs)
     named = by_culprit(gs, truth["other_tid"])
-    assert misses and sum(g["count"] for g in named) >= 0.95 * misses, gs
+    others = foreign(gs, truth)
+    assert misses and others <= 0.2 * misses, gs
+    assert sum(g["count"] for g in named) >= 0.95 * (misses - others), gs
     pre = by_culprit(gs, truth["other_tid"], ("preemption",))
     assert pre and all(g["who"]["comm"] == "why-preemptor" and g["who"]["prio"] == 70
                        for g in pre), gs
-    # a preemption lasts the burst, never longer (+ the two clocks' 200 us)
+    # the preemptor's share lasts the burst, never longer (+ the two clocks' 200 us)
     assert max(g["max_ns"] for g in pre) <= truth["burst_max_ns"] + 200000, (truth, pre)

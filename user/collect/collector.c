@@ -430,6 +430,8 @@ int collector_sample(struct collector *c)
 			c->model.t[i].alive = false;
 	read_unsafe_sys(c);
 	read_counters(c);
+	/* the checks name each thread's top cause: every thread is in the model now */
+	causes_to_model(&c->causes_win, &c->causes_life, &c->model);
 	return err;
 }
 

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "model/causes.h"
+#include "model/model.h"
 #include "model/syscalls.h"
 
 static const char *const kind_names[RTSUP_CAUSE_NR] = {
@@ -105,9 +106,7 @@ static const char *policy_short(__u32 policy)
 /* who_text - "noise-hog[812] FIFO/99", "the idle task" */
 static void who_text(char *buf, size_t len, const struct rtsup_who *w, __u32 self)
 {
-	if (!w->tid && !w->comm[0])
-		snprintf(buf, len, "an unnamed task");
-	else if (!w->tid)
+	if (!w->tid)
 		snprintf(buf, len, "the idle task");
 	else
 		snprintf(buf, len, "%.15s[%u] %s/%d%s", w->comm, w->tid, policy_short(w->policy),
@@ -163,7 +162,7 @@ void causes_text(char *buf, size_t len, __u32 kind, __u32 flags, __u64 ns,
 		snprintf(buf, len, "woken, then waited %.3f ms for the CPU behind %s", ms, w);
 		break;
 	case RTSUP_CAUSE_PREEMPT:
-		snprintf(buf, len, "preempted for %.3f ms, most by %s", ms, w);
+		snprintf(buf, len, "preempted for %.3f ms by %s", ms, w);
 		break;
 	case RTSUP_CAUSE_BLOCK:
 		block_in(in, sizeof(in), detail);
@@ -184,6 +183,62 @@ void causes_text(char *buf, size_t len, __u32 kind, __u32 flags, __u64 ns,
 		break;
 	default:
 		snprintf(buf, len, "no cause measured");
+	}
+}
+
+/* causes_brief - one group in a few words, for a verdict message */
+static void causes_brief(char *buf, size_t len, const struct cause_group *g)
+{
+	char w[64];
+
+	if (g->who.tid) {
+		who_text(w, sizeof(w), &g->who, 0);
+		snprintf(buf, len, "%llu caused by %s (%s, %.1f ms max)",
+			 (unsigned long long)g->count, w, cause_kind_name(g->kind), g->max_ns / 1e6);
+	} else {
+		snprintf(buf, len, "%llu caused by %s (%.1f ms max)", (unsigned long long)g->count,
+			 g->kind == RTSUP_CAUSE_TIMER ? "machine / timer latency" :
+			 g->kind == RTSUP_CAUSE_WAIT ? "machine latency (idle exit)" :
+			 g->kind == RTSUP_CAUSE_EXEC ? "its own CPU time" :
+			 g->kind == RTSUP_CAUSE_BACKLOG ? "the late cycle before" : "nothing measured",
+			 g->max_ns / 1e6);
+	}
+}
+
+/*
+ * top_culprit - a thread's leading cause: its longest group but a backlog
+ * (the consequence of another), with the misses of every group of the same
+ * culprit (a hog's waits and the backlogs after them) counted in
+ */
+static void top_culprit(char *buf, size_t len, const struct cause_group *g, size_t n)
+{
+	struct cause_group top;
+	size_t i, lead = 0;
+
+	for (i = 1; i < n; i++)
+		if (g[lead].kind == RTSUP_CAUSE_BACKLOG && g[i].kind != RTSUP_CAUSE_BACKLOG)
+			lead = i;
+	top = g[lead];
+	for (i = 0; i < n; i++)
+		if (i != lead && g[i].who.tid && g[i].who.tid == top.who.tid)
+			top.count += g[i].count;
+	causes_brief(buf, len, &top);
+}
+
+void causes_to_model(const struct causes *win, const struct causes *life, struct model *m)
+{
+	const struct cause_group *g;
+	size_t n;
+	int i;
+
+	for (i = 0; i < m->n; i++) {
+		struct thread_model *tm = &m->t[i];
+
+		tm->why_win[0] = tm->why_life[0] = '\0';
+		if ((g = causes_of(win, tm->tid, &n)))
+			top_culprit(tm->why_win, sizeof(tm->why_win), g, n);
+		if ((g = causes_of(life, tm->tid, &n)))
+			top_culprit(tm->why_life, sizeof(tm->why_life), g, n);
 	}
 }
 

@@ -11,6 +11,8 @@
 #include <stddef.h>
 #include "rtsup.h"
 
+struct model;
+
 struct cause_group {
 	__u32 tid;		/* the target thread */
 	__u32 kind;		/* enum rtsup_cause_kind */
@@ -38,6 +40,11 @@ const struct cause_group *causes_of(const struct causes *cs, __u32 tid, size_t *
 /* causes_text - one readable cause: "waited 3.1 ms behind noise-hog[812] FIFO/99" */
 void causes_text(char *buf, size_t len, __u32 kind, __u32 flags, __u64 ns,
 		 const struct rtsup_who *who, const struct rtsup_cause *detail, __u32 self);
+/*
+ * causes_to_model - each thread's top cause (longest total) as a short text
+ * for the checks: "28 caused by why-hog[667] FIFO/60 (wait, 3.1 ms max)"
+ */
+void causes_to_model(const struct causes *win, const struct causes *life, struct model *m);
 void causes_clear(struct causes *cs);
 void causes_free(struct causes *cs);
 

@@ -182,8 +182,8 @@ int main(int argc, char **argv)
 		die("pthread_create");
 	pthread_join(a, NULL);
 	pthread_join(b, NULL);
-	printf("{\"rt_tid\": %d, \"other_tid\": %d, \"other\": \"%s\", \"prio\": %d, "
+	printf("{\"pid\": %d, \"rt_tid\": %d, \"other_tid\": %d, \"other\": \"%s\", \"prio\": %d, "
 	       "\"bursts\": %ld, \"burst_max_ns\": %lld, \"cycles\": %ld, \"misses\": %ld}\n",
-	       rt_tid, other_tid, oa.name, oa.prio, bursts, (long long)burst_max, cycles, misses);
+	       getpid(), rt_tid, other_tid, oa.name, oa.prio, bursts, (long long)burst_max, cycles, misses);
 	return 0;
 }
