@@ -10,7 +10,7 @@ import subprocess
 
 import pytest
 
-from conftest import BUILD, EMULATED, Trace
+from conftest import BUILD, EMULATED, NOISE, Trace
 
 WHY_LATE = BUILD / "progs" / "why_late"
 # the last CPU: the tests' own Python and rtsup-trace mostly run elsewhere
@@ -20,9 +20,9 @@ MS = 1000000
 pytestmark = pytest.mark.skipif(EMULATED, reason="host only: the program's timing")
 
 
-def run_why(mode, seconds=3):
+def run_why(mode, seconds=3, args=()):
     """Trace why_late MODE; return (its truth, why-rt's summary, the intervals)."""
-    tr = Trace(["--comm", "why_late"])
+    tr = Trace(["--comm", "why_late"] + list(args))
     # rtsup-trace's own reads of its maps hold a CPU for up to ~1 ms on a
     # kernel without full preemption: a cost it names as its own (the
     # 'self' culprit), kept off the CPU under test here
@@ -51,10 +51,12 @@ def by_culprit(gs, tid, kinds=None):
             (kinds is None or g["kind"] in kinds)]
 
 
-def foreign(gs, truth):
-    """Misses named after a task outside why_late: the machine is shared (other
-    tests' tracers and generators run on it); they are named, not hidden."""
-    return sum(g["count"] for g in gs if g["who"] and g["who"]["tgid"] != truth["pid"])
+def foreign(gs, truth, also=()):
+    """Misses named after a task outside why_late (and 'also'): the machine is
+    shared (other tests' tracers and generators run on it); they are named,
+    not hidden."""
+    return sum(g["count"] for g in gs if g["who"] and g["who"]["tgid"] != truth["pid"] and
+               g["who"]["tgid"] not in also)
 
 
 def miss_events(intervals, tid):
@@ -140,3 +142,42 @@ def test_preemptor_is_named(bpf):
                        for g in pre), gs
     # the preemptor's share lasts the burst, never longer (+ the two clocks' 200 us)
     assert max(g["max_ns"] for g in pre) <= truth["burst_max_ns"] + 200000, (truth, pre)
+
+
+def test_noise_injector_is_named(bpf):
+    """rtsup-noise inject (a FIFO 99 thread per CPU burning 3 ms every 30 ms
+    +-25 %) against why-rt alone: the misses name the injector's thread on
+    why-rt's CPU."""
+    noise = subprocess.Popen([str(NOISE), "inject", "-b", "3ms", "-e", "30ms", "-d", "5s"],
+                             stdout=subprocess.DEVNULL)
+    try:
+        truth, rt, _ = run_why("alone")
+    finally:
+        noise.wait(timeout=30)
+    gs = groups(rt)
+    misses = sum(g["count"] for g in gs)
+    # 3 s of 3 ms bursts every ~30 ms: about 100, each a miss at least
+    assert misses >= 50, gs
+    named = [g for g in gs if g["who"] and g["who"]["tgid"] == noise.pid]
+    assert all(g["who"]["comm"] == "rtsup-noise" and g["who"]["prio"] == 99 for g in named)
+    others = foreign(gs, truth, also=(noise.pid,))
+    assert others <= 0.2 * misses, gs
+    assert sum(g["count"] for g in named) >= 0.95 * (misses - others), gs
+
+
+def test_replay_gives_the_same_causes(bpf, tmp_path):
+    """--record keeps every miss's cause: the replay groups them the same."""
+    rec = tmp_path / "why.rec"
+    truth, rt, _ = run_why("hog", args=["--record", str(rec)])
+    r = subprocess.run([str(BUILD / "rtsup-trace"), "replay", str(rec), "-j"],
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+    summary = json.loads(r.stdout.splitlines()[-1])
+    again = [t for t in summary["threads"] if t["tid"] == truth["rt_tid"]]
+    assert len(again) == 1
+    strip = [{k: g[k] for k in ("kind", "count", "total_ns", "max_ns", "inversion")} |
+             {"who": g["who"] and (g["who"]["tid"], g["who"]["comm"])}
+             for g in groups(rt)]
+    assert groups(rt) and strip == [
+        {k: g[k] for k in ("kind", "count", "total_ns", "max_ns", "inversion")} |
+        {"who": g["who"] and (g["who"]["tid"], g["who"]["comm"])} for g in groups(again[0])]

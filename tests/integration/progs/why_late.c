@@ -10,6 +10,8 @@
  *	"why-rt" FIFO 50, 1 ms period, takes a mutex (plain, or priority
  *	inheritance) each cycle; "why-owner" FIFO 10 holds it for 2 ms every
  *	50 ms.
+ *   why_late alone CPU SECONDS
+ *	"why-rt" alone (the noise comes from outside: rtsup-noise inject).
  *   why_late preempt CPU SECONDS
  *	"why-rt" FIFO 50, 5 ms period, 3 ms of work; "why-preemptor" FIFO 70
  *	burns 4 ms every 50 ms (so it comes inside why-rt's work).
@@ -155,7 +157,7 @@ int main(int argc, char **argv)
 	const char *mode;
 
 	if (argc != 4) {
-		fprintf(stderr, "usage: why_late hog|mutex|pi|preempt CPU SECONDS\n");
+		fprintf(stderr, "usage: why_late hog|mutex|pi|preempt|alone CPU SECONDS\n");
 		return 1;
 	}
 	mode = argv[1];
@@ -172,16 +174,19 @@ int main(int argc, char **argv)
 	} else if (!strcmp(mode, "preempt")) {
 		ra = (struct rt_args){ 5 * MS, 3 * MS, 0 };
 		oa = (struct other_args){ "why-preemptor", 70, 50 * MS, 4 * MS, 0 };
-	} else if (strcmp(mode, "hog")) {
+	} else if (strcmp(mode, "hog") && strcmp(mode, "alone")) {
 		fprintf(stderr, "why_late: %s: unknown mode\n", mode);
 		return 1;
 	}
 	pthread_mutex_init(&lock, &ma);
 	srand(1);
-	if (pthread_create(&a, NULL, periodic, &ra) || pthread_create(&b, NULL, other, &oa))
+	if (pthread_create(&a, NULL, periodic, &ra))
+		die("pthread_create");
+	if (strcmp(mode, "alone") && pthread_create(&b, NULL, other, &oa))
 		die("pthread_create");
 	pthread_join(a, NULL);
-	pthread_join(b, NULL);
+	if (strcmp(mode, "alone"))
+		pthread_join(b, NULL);
 	printf("{\"pid\": %d, \"rt_tid\": %d, \"other_tid\": %d, \"other\": \"%s\", \"prio\": %d, "
 	       "\"bursts\": %ld, \"burst_max_ns\": %lld, \"cycles\": %ld, \"misses\": %ld}\n",
 	       getpid(), rt_tid, other_tid, oa.name, oa.prio, bursts, (long long)burst_max, cycles, misses);
