@@ -146,8 +146,9 @@ RTSUP_INLINE int why_pick(const struct why_slot *s, __u32 tid, __u64 now)
 /*
  * why_switch_holder - a switch on the slot's CPU while its target waits:
  * prev ran since s->since. Returns 1 when prev held the CPU longer than
- * anyone so far (the caller copies prev into s->top). 'next_tid' is the
- * target: it runs now (WHY_RAN).
+ * anyone so far (the caller copies prev into s->top); the holder kept adds
+ * up its stretches (a hog interrupted by a kernel thread is one holder).
+ * 'next_tid' is the target: it runs now (WHY_RAN).
  */
 RTSUP_INLINE int why_switch_holder(struct why_slot *s, __u32 prev_tid, __u32 next_tid,
 				   __u64 now)
@@ -155,7 +156,11 @@ RTSUP_INLINE int why_switch_holder(struct why_slot *s, __u32 prev_tid, __u32 nex
 	__u64 held = now > s->since ? now - s->since : 0;
 	int top = 0;
 
-	if (prev_tid != s->tid && held > s->top_ns) {
+	if (prev_tid == s->tid) {
+		/* the target itself (woken, ran unseen): no holder */
+	} else if (s->top_ns && prev_tid == s->top.tid) {
+		s->top_ns += held;
+	} else if (held > s->top_ns) {
 		s->top_ns = held;
 		top = 1;
 	}

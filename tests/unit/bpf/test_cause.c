@@ -100,6 +100,23 @@ static void test_cause_wait_behind_hog(void **state)
 	assert_int_equal(f.w.cur.wait_ns, 3100 * US);
 	assert_int_equal(f.w.cur.top[0].who.tid, 812);
 	assert_int_equal(f.w.cur.top[0].ns, 3100 * US);
+	/* a hog interrupted by a short kernel thread: one holder, its stretches summed */
+	f.cs.in_delim = 1;
+	why_reset(&f.w.cur);
+	sw(&f, 20 * MS, &hog);
+	wake(&f, 20 * MS + 10 * US);
+	sw(&f, 21 * MS, &boss);
+	sw(&f, 21 * MS + 20 * US, &hog);
+	sw(&f, 22 * MS + 10 * US, &target);
+	settle(&f);
+	assert_int_equal(f.w.cur.wait_ns, 2 * MS);
+	assert_int_equal(f.w.cur.top[0].who.tid, 812);
+	assert_int_equal(f.w.cur.top[0].ns, 1980 * US);
+	f.cs.expected = 10 * MS;
+	why_reset(&f.w.cur);
+	f.w.cur.wait_ns = 3100 * US;
+	f.w.cur.timer_ns = 5 * US;
+	why_culprit(&f.w.cur, &hog, 3100 * US);
 	/* the cycle ends past its next release (1 ms period): a miss */
 	f.cs.in_delim = 0;
 	why_delim(&f.w, CYC_EV_CLOSED | CYC_EV_MISS, 100 * US, 1 * MS, 13 * MS + 205 * US,
