@@ -132,7 +132,8 @@ UNIT_DEPS_test_config := user/config/config.c user/model/syscalls.c user/config/
 UNIT_LIBS_test_config := -lyaml
 UNIT_DEPS_test_record := user/sinks/record.c user/sinks/jsonstr.c user/sinks/errline.c
 UNIT_LIBS_test_record := -lz -ljansson
-UNIT_DEPS_test_perfetto := user/sinks/perfetto.c user/sinks/jsonstr.c user/sinks/errline.c
+UNIT_DEPS_test_perfetto := user/sinks/perfetto.c user/sinks/jsonstr.c user/sinks/errline.c \
+	user/model/causes.c user/model/syscalls.c
 UNIT_LIBS_test_perfetto := -ljansson
 UNIT_DEPS_test_checks := user/judge/checks.c user/model/model.c user/judge/status.c
 UNIT_DEPS_test_status := user/judge/status.c
