@@ -179,7 +179,7 @@ RTSUP_INLINE int why_stale(const struct why_slot *s, __u64 now)
 }
 
 /* why_culprit - add ns of a task holding the target's CPU to the cycle's top list */
-RTSUP_INLINE void why_culprit(struct rtsup_cause *c, const struct rtsup_who *who, __u64 ns)
+RTSUP_SUBPROG void why_culprit(struct rtsup_cause *c, const struct rtsup_who *who, __u64 ns)
 {
 	struct rtsup_culprit tmp;
 	__u32 i, min = 0;
@@ -236,7 +236,7 @@ RTSUP_INLINE void why_syscall(struct rtsup_why *w, __u32 nr, __u32 futex_op)
  * wait into its running cycle. A wakeup ends its delimiter's sleep (the
  * release: timer part) or a block inside the cycle (block part).
  */
-RTSUP_INLINE void why_take(struct rtsup_why *w, const struct rtsup_cycle_state *cs,
+RTSUP_SUBPROG void why_take(struct rtsup_why *w, const struct rtsup_cycle_state *cs,
 			   const struct why_slot *s)
 {
 	struct rtsup_cause *c = &w->cur;
