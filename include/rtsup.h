@@ -258,7 +258,6 @@ struct rtsup_why {
 	__u32 out_dstate;	/* that block is uninterruptible */
 	__u32 sys_nr;		/* syscall in progress inside the cycle + 1 */
 	__u32 sys_op;		/* and its futex operation */
-	__s32 armed_cpu;	/* CPU whose wait slot was armed for the thread, -1 none */
 };
 
 #define WHY_WOKEN	1	/* the target was woken and waits for the CPU */
