@@ -823,9 +823,12 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 		if (!voluntary && now && ws) {
 			int i = why_pick(ws, prev_tid, now);
 
-			if (i >= 0 && i < WHY_WAITERS)
+			if (i >= 0 && i < WHY_WAITERS) {
 				why_arm(&ws[i], prev_tid, WHY_PREEMPTED, now);
-			else
+				ws[i].policy = TREAD(btf, prev, policy);
+				ws[i].prio = why_rt(ws[i].policy) ?
+					     (__s32)TREAD(btf, prev, rt_priority) : 0;
+			} else
 				count(RTSUP_C_WHY_BUSY);
 		}
 		if (ev & CYC_EV_BLOCK)

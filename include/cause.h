@@ -55,14 +55,20 @@ RTSUP_INLINE int why_rt(__u32 policy)
  * it (a priority inversion). A PI lock (FUTEX_LOCK_PI) boosted its owner:
  * no inversion.
  */
+/* why_below - is a task below an RT target of (policy, prio)? (idle: no) */
+RTSUP_INLINE int why_below(__u32 policy, __s32 prio, const struct rtsup_who *w)
+{
+	if (!why_rt(policy) || !w->tid)
+		return 0;
+	return !why_rt(w->policy) || w->prio < prio;
+}
+
 RTSUP_INLINE int why_inversion(__u32 op, __u32 policy, __s32 prio,
 			       const struct rtsup_who *waker)
 {
 	if (op != WHY_FUTEX_WAIT + 1 && op != WHY_FUTEX_WAIT_BITSET + 1)
 		return 0;
-	if (!why_rt(policy) || !waker->tid)
-		return 0;
-	return !why_rt(waker->policy) || waker->prio < prio;
+	return why_below(policy, prio, waker);
 }
 
 /* why_who_clear - no task named */
@@ -243,6 +249,14 @@ RTSUP_SUBPROG void why_take(struct rtsup_why *w, const struct rtsup_cycle_state 
 	__u64 span = s->ran > s->armed ? s->ran - s->armed : 0, b;
 
 	why_culprit(c, &s->top, s->top_ns);
+	/*
+	 * the cycle's longest holder is below the target: the scheduler could
+	 * not take the CPU from it (a non-preemptible kernel section, softirq
+	 * work in its context, interrupts off)
+	 */
+	if (s->top_ns && c->top[0].who.tid == s->top.tid)
+		c->flags = (c->flags & ~RTSUP_CAUSE_F_BELOW) |
+			   (why_below(s->policy, s->prio, &s->top) ? RTSUP_CAUSE_F_BELOW : 0);
 	if (s->state & WHY_PREEMPTED) {
 		c->preempt_ns += span;
 		c->preempts++;

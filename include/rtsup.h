@@ -228,6 +228,7 @@ enum rtsup_cause_kind {
 #define RTSUP_CAUSE_F_INVERSION	0x02	/* the block was ended by a lower priority task */
 #define RTSUP_CAUSE_F_DSTATE	0x04	/* the block was uninterruptible (D state) */
 #define RTSUP_CAUSE_F_INHERIT	0x08	/* backlog: 'who' is the previous cycle's culprit */
+#define RTSUP_CAUSE_F_BELOW	0x10	/* the longest holder was below the target's priority */
 
 /* Why one cycle was late, in parts (ns), and the one that won. */
 struct rtsup_cause {

@@ -139,6 +139,9 @@ static void block_in(char *buf, size_t len, const struct rtsup_cause *d)
 		buf[0] = '\0';
 }
 
+/* a holder below the target's priority kept the CPU: the kernel could not preempt it */
+#define BELOW	", below its priority: not preemptible (kernel section, softirq, IRQs off)"
+
 void causes_text(char *buf, size_t len, __u32 kind, __u32 flags, __u64 ns,
 		 const struct rtsup_who *who, const struct rtsup_cause *detail, __u32 self)
 {
@@ -159,10 +162,12 @@ void causes_text(char *buf, size_t len, __u32 kind, __u32 flags, __u64 ns,
 			 " (interrupts, hypervisor or hardware held the CPU)");
 		break;
 	case RTSUP_CAUSE_WAIT:
-		snprintf(buf, len, "woken, then waited %.3f ms for the CPU behind %s", ms, w);
+		snprintf(buf, len, "woken, then waited %.3f ms for the CPU behind %s%s", ms, w,
+			 flags & RTSUP_CAUSE_F_BELOW ? BELOW : "");
 		break;
 	case RTSUP_CAUSE_PREEMPT:
-		snprintf(buf, len, "preempted for %.3f ms by %s", ms, w);
+		snprintf(buf, len, "preempted for %.3f ms by %s%s", ms, w,
+			 flags & RTSUP_CAUSE_F_BELOW ? BELOW : "");
 		break;
 	case RTSUP_CAUSE_BLOCK:
 		block_in(in, sizeof(in), detail);

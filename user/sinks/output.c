@@ -184,6 +184,7 @@ static json_t *json_cause(const struct rtsup_cause *k, __u32 self)
 	json_object_set_new(o, "blocks", json_integer(k->blocks));
 	json_object_set_new(o, "idle_cpu", json_boolean(k->flags & RTSUP_CAUSE_F_IDLE));
 	json_object_set_new(o, "inherited", json_boolean(k->flags & RTSUP_CAUSE_F_INHERIT));
+	json_object_set_new(o, "holder_below", json_boolean(k->flags & RTSUP_CAUSE_F_BELOW));
 	json_object_set_new(o, "block", b);
 	json_object_set_new(o, "culprits", top);
 	return o;

@@ -123,6 +123,8 @@ static void test_cause_wait_behind_hog(void **state)
 		  11 * MS);
 	assert_int_equal(f.w.out.kind, RTSUP_CAUSE_WAIT);
 	assert_int_equal(f.w.out.ns, 3100 * US);
+	/* a FIFO 99 hog above a FIFO 50 target: the scheduler's choice, not the kernel's */
+	assert_false(f.w.out.flags & RTSUP_CAUSE_F_BELOW);
 	assert_string_equal(f.w.out.who.comm, "noise-hog");
 	assert_int_equal(f.w.out.who.prio, 99);
 	/* the next cycle starts late without sleeping: backlog, same culprit */
@@ -133,6 +135,28 @@ static void test_cause_wait_behind_hog(void **state)
 	assert_int_equal(f.w.out.kind, RTSUP_CAUSE_BACKLOG);
 	assert_int_equal(f.w.out.who.tid, 812);
 	assert_true(f.w.out.flags & RTSUP_CAUSE_F_INHERIT);
+}
+
+/* a SCHED_OTHER task held the CPU from a woken FIFO 50 target: not preemptible */
+static void test_cause_holder_below_target(void **state)
+{
+	static const struct rtsup_who vm = { .tid = 777, .tgid = 777, .policy = 0, .prio = 0,
+					     .comm = "qemu" };
+	struct fx f;
+
+	fx_init(&f);
+	f.cs.in_delim = 1;
+	f.cs.expected = 10 * MS;
+	sw(&f, 9 * MS, &vm);
+	wake(&f, 10 * MS);
+	sw(&f, 14 * MS, &target);
+	settle(&f);
+	assert_true(f.w.cur.flags & RTSUP_CAUSE_F_BELOW);
+	why_delim(&f.w, CYC_EV_CLOSED | CYC_EV_MISS, 100 * US, 1 * MS, 14 * MS + 100 * US,
+		  11 * MS);
+	assert_int_equal(f.w.out.kind, RTSUP_CAUSE_WAIT);
+	assert_int_equal(f.w.out.who.tid, 777);
+	assert_true(f.w.out.flags & RTSUP_CAUSE_F_BELOW);
 }
 
 /* the wakeup itself came 2 ms late to an idle CPU: the machine, no task */
@@ -262,6 +286,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_cause_wait_behind_hog),
 		cmocka_unit_test(test_cause_timer_on_idle_cpu),
+		cmocka_unit_test(test_cause_holder_below_target),
 		cmocka_unit_test(test_cause_preemptions_summed),
 		cmocka_unit_test(test_cause_block_inversion),
 		cmocka_unit_test(test_cause_exec_only_when_it_does_not_fit),
