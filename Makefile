@@ -46,7 +46,8 @@ UNIT_BINS := $(patsubst %.c,$(OUT)/tests/%,$(notdir $(UNIT_SRCS)))
 all: $(OUT)/rtsup-trace $(OUT)/rtsup-loadgen $(OUT)/rtsup-cansim $(OUT)/rtsup-noise \
      $(OUT)/progs/usleep_loop $(OUT)/progs/timerfd_loop $(OUT)/progs32/abi32_loop \
      $(OUT)/progs/where_loop_fp $(OUT)/progs/where_loop_dwarf $(OUT)/progs/where_loop_lib \
-     $(OUT)/progs/where_cpp
+     $(OUT)/progs/where_cpp \
+     $(OUT)/progs/why_late
 
 $(OUT) $(OUT)/tests:
 	$(Q)mkdir -p $@
@@ -168,6 +169,7 @@ CONFIG_SRCS := user/config/config.c user/config/yamlwalk.c user/config/values.c 
 	user/config/canconfig.c user/config/print.c
 UNIT_DEPS_test_model  := user/model/model.c
 UNIT_DEPS_test_eventlog := user/model/eventlog.c
+UNIT_DEPS_test_causes := user/model/causes.c user/model/syscalls.c
 UNIT_DEPS_test_histdraw := user/sinks/histdraw.c
 UNIT_DEPS_test_progress := user/sinks/progress.c
 UNIT_DEPS_test_syscalls := user/model/syscalls.c
@@ -175,7 +177,8 @@ UNIT_DEPS_test_config := $(CONFIG_SRCS) user/model/syscalls.c user/config/action
 UNIT_LIBS_test_config := -lyaml
 UNIT_DEPS_test_record := user/sinks/record.c user/sinks/jsonstr.c user/sinks/errline.c
 UNIT_LIBS_test_record := -lz -ljansson
-UNIT_DEPS_test_perfetto := user/sinks/perfetto.c user/sinks/jsonstr.c user/sinks/errline.c
+UNIT_DEPS_test_perfetto := user/sinks/perfetto.c user/sinks/jsonstr.c user/sinks/errline.c \
+	user/model/causes.c user/model/syscalls.c
 UNIT_LIBS_test_perfetto := -ljansson
 UNIT_DEPS_test_checks := user/judge/checks.c user/model/model.c user/judge/status.c
 UNIT_DEPS_test_status := user/judge/status.c

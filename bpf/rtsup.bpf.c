@@ -25,6 +25,7 @@
 static __always_inline void zero_mem(void *p, __u32 n);
 
 #include "cycle.h"
+#include "cause.h"
 #include "can.h"
 
 /*
@@ -85,6 +86,16 @@ struct {
 	__type(key, __u32);
 	__type(value, struct rtsup_thread);
 } threads SEC(".maps");
+
+/*
+ * One wait slot per CPU: the target waiting for that CPU, woken or
+ * preempted (cause.h). Written at a target's wakeup by the waking CPU and
+ * at every switch of the slot's CPU while armed: both hold that CPU's
+ * run-queue lock. A plain array: its CPU's slot is one address.
+ */
+#define WHY_CPUS	512
+struct why_slot why_cpu[WHY_CPUS][WHY_WAITERS];
+_Static_assert(WHY_WAITERS == 2, "on_switch checks the two slots of its CPU");
 
 struct {
 	__uint(type, BPF_MAP_TYPE_HASH);
@@ -156,9 +167,14 @@ struct {
 	__type(value, __u32);
 } cgroup SEC(".maps");
 
+/*
+ * Rare events. A miss carries its cause (376 bytes an event): 2 MiB hold
+ * about 5500, the seconds of a flood of misses on CPUs that RT threads
+ * keep busy, while rtsup-trace waits for a CPU to read them.
+ */
 struct {
 	__uint(type, BPF_MAP_TYPE_RINGBUF);
-	__uint(max_entries, 256 * 1024);
+	__uint(max_entries, 2 * 1024 * 1024);
 } events SEC(".maps");
 
 struct {
@@ -332,15 +348,15 @@ static __always_inline void record_cycle(struct rtsup_thread *t, const struct rt
 	bpf_ringbuf_submit(r, 0);
 }
 
-/* emit - send one rare event; a full ring buffer is counted, not hidden */
-static __always_inline void emit(__u32 type, struct rtsup_thread *t, __u64 now,
-				 __u64 arg, __u64 arg2)
+/* event_new - a rare event reserved and filled but for its cause; NULL when full */
+static __always_inline struct rtsup_event *event_new(__u32 type, struct rtsup_thread *t,
+						     __u64 now, __u64 arg, __u64 arg2)
 {
 	struct rtsup_event *e = bpf_ringbuf_reserve(&events, sizeof(*e), 0);
 
 	if (!e) {
 		count(RTSUP_C_RB_DROPS);
-		return;
+		return NULL;
 	}
 	e->ts = now;
 	e->type = type;
@@ -350,6 +366,18 @@ static __always_inline void emit(__u32 type, struct rtsup_thread *t, __u64 now,
 	e->arg = arg;
 	e->arg2 = arg2;
 	__builtin_memcpy(e->comm, t->comm, sizeof(e->comm));
+	return e;
+}
+
+/* emit - send one rare event; a full ring buffer is counted, not hidden */
+static __always_inline void emit(__u32 type, struct rtsup_thread *t, __u64 now,
+				 __u64 arg, __u64 arg2)
+{
+	struct rtsup_event *e = event_new(type, t, now, arg, arg2);
+
+	if (!e)
+		return;
+	__builtin_memset(&e->cause, 0, sizeof(e->cause));
 	bpf_ringbuf_submit(e, 0);
 }
 
@@ -477,6 +505,101 @@ static __always_inline void capture_stack(struct rtsup_thread *t, __u64 now, __u
 	bpf_ringbuf_submit(r, 0);
 }
 
+/* emit_miss - a deadline miss with its cause (why_delim) */
+static __always_inline void emit_miss(struct rtsup_thread *t, __u64 now, __u64 lateness,
+				      __u64 exec)
+{
+	struct rtsup_event *e = event_new(RTSUP_EV_MISS, t, now, lateness, exec);
+
+	if (!e)
+		return;
+	__builtin_memcpy(&e->cause, &t->why.out, sizeof(e->cause));
+	bpf_ringbuf_submit(e, 0);
+}
+
+/* who_fill - name a task in a cause; the idle task is tid 0 and no more */
+static __always_inline void who_fill(struct rtsup_who *w, struct task_struct *p, const int btf)
+{
+	w->tid = TREAD(btf, p, pid);
+	if (!w->tid) {
+		/* a clean release on an idle CPU: no name to read */
+		why_who_clear(w);
+		return;
+	}
+	w->tgid = TREAD(btf, p, tgid);
+	w->policy = TREAD(btf, p, policy);
+	w->prio = why_rt(w->policy) ? (__s32)TREAD(btf, p, rt_priority) :
+				      (__s32)TREAD(btf, p, static_prio) - 120;
+	bpf_probe_read_kernel(w->comm, sizeof(w->comm), &p->comm);
+}
+
+/* why_slot_of - the WHY_WAITERS wait slots of a CPU, NULL past the array */
+static __always_inline struct why_slot *why_slot_of(__u32 cpu)
+{
+	if (cpu >= WHY_CPUS)
+		return NULL;
+	/* the mask bounds the index for the verifier, whatever clang kept */
+	barrier_var(cpu);
+	return why_cpu[cpu & (WHY_CPUS - 1)];
+}
+
+/*
+ * why_settle - the thread runs after a wait on this CPU: fold the wait into
+ * its cycle (cause.h). At each of its events, as settle() for the switch-in.
+ */
+static __always_inline void why_settle(struct rtsup_thread *t)
+{
+	struct why_slot *s = why_slot_of(bpf_get_smp_processor_id());
+	__u32 i;
+
+	if (!s)
+		return;
+	for (i = 0; i < WHY_WAITERS; i++) {
+		if (s[i].tid != t->tid || !(s[i].state & WHY_RAN))
+			continue;
+		why_take(&t->why, &t->cs, &s[i]);
+		s[i].tid = 0;
+	}
+}
+
+/* why_wakeup - a target is woken: it waits for its CPU from now (cause.h) */
+static __always_inline void why_wakeup(struct task_struct *p, __u32 tid, __u64 now,
+				       const int btf)
+{
+	struct why_slot *s = why_slot_of(TREAD(btf, p, thread_info.cpu));
+	int i;
+
+	if (!s)
+		return;
+	i = why_pick(s, tid, now);
+	if (i < 0 || i >= WHY_WAITERS) {
+		count(RTSUP_C_WHY_BUSY);
+		return;
+	}
+	s += i;
+	why_arm(s, tid, WHY_WOKEN, now);
+	s->policy = TREAD(btf, p, policy);
+	s->prio = why_rt(s->policy) ? (__s32)TREAD(btf, p, rt_priority) : 0;
+	who_fill(&s->waker, CURRENT(btf), btf);
+}
+
+/*
+ * why_switch - a switch on a CPU where a target waits: prev held the CPU
+ * since the last switch (cause.h). Only while a target waits here.
+ */
+static __always_inline void why_switch(struct why_slot *s, struct task_struct *prev,
+				       __u32 prev_tid, __u32 next_tid, const int btf)
+{
+	__u64 now = bpf_ktime_get_ns();
+
+	if (why_stale(s, now)) {
+		s->tid = 0;
+		return;
+	}
+	if (why_switch_holder(s, prev_tid, next_tid, now))
+		who_fill(&s->top, prev, btf);
+}
+
 /* comm_match - is this name one of the --comm targets? */
 static __always_inline int comm_match(const char *comm)
 {
@@ -569,7 +692,7 @@ static __always_inline void emit_cycle(__u32 ev, struct rtsup_thread *t, __u64 n
 	flush_sys(t);
 	record_cycle(t, c);
 	if (ev & CYC_EV_MISS)
-		emit(RTSUP_EV_MISS, t, now, lateness, c->exec);
+		emit_miss(t, now, lateness, c->exec);
 	if (!(ev & CYC_EV_FAULTS))
 		return;
 	if (c->minflt)
@@ -666,6 +789,7 @@ static __always_inline void settle(struct rtsup_thread *t, struct cycle_switch_r
 	/* cycle_settle leaves the record's time and CPU as they were */
 	if (r && (cycle_settle(t, r) & CYC_EV_MIGRATE))
 		emit(RTSUP_EV_UNSAFE, t, r->now, RTSUP_U_MIGRATE, r->cpu);
+	why_settle(t);
 }
 
 /* running - the current thread is in a syscall of its own: it has a CPU */
@@ -750,6 +874,8 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 		cf = cfg(tc);
 		ev = cycle_delim_enter(t, &cf, now, expected, absolute,
 				       TREAD(btf, task, min_flt), TREAD(btf, task, maj_flt), &c);
+		why_delim(&t->why, ev, ev & CYC_EV_CLOSED ? c.cpu : 0,
+			  ev & CYC_EV_CLOSED ? c.nominal : 0, now, expected);
 		note_wake(t);
 		if (ev & CYC_EV_CLOSED)
 			emit_cycle(ev, t, now, &c, now - expected);
@@ -762,6 +888,8 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 		unsafe = 1;
 	if (unsafe && (*cls & RTSUP_SC_FDCHECK))
 		unsafe = fd_is_file_or_tty(task, SYSARG(btf, regs, 1));
+	/* what a block inside the cycle waits in (cause.h) */
+	why_syscall(&t->why, nr, *cls & RTSUP_SC_OPKEY ? (SYSARG(btf, regs, 2) & 0x7f) + 1 : 0);
 	ev = cycle_syscall(t, unsafe);
 	if (ev & CYC_EV_UNSAFE) {
 		/* by number at the cycle's end, like the other counts */
@@ -879,13 +1007,22 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 	struct cycle_cfg cf;
 	enum cycle_out_path out = CYC_OUT_IDLE;
 	int voluntary, hold = 0;
+	__u32 ev, state = 0, cpu = bpf_get_smp_processor_id();
+	struct why_slot *ws = why_slot_of(cpu);
 	__u64 now;
-	__u32 ev;
 
+	/* a target waits for this CPU: prev held it (two loads when none does) */
+	if (ws && ws[0].tid && !(ws[0].state & WHY_RAN))
+		why_switch(&ws[0], prev, prev_tid, next_tid, btf);
+	if (ws && ws[1].tid && !(ws[1].state & WHY_RAN))
+		why_switch(&ws[1], prev, prev_tid, next_tid, btf);
 	if (!maybe_target(prev_tid) && !maybe_target(next_tid) && !cfg_rt)
 		return 0;
 	/* one side is usually no target (idle, a kworker): no lookup for it */
 	pt = settle_prev(prev_tid, &r);
+	/* a wait that ended in a switch-in no event followed */
+	if (pt)
+		why_settle(pt);
 	nt = lookup_or_hold(next_tid, &hold);
 	if (!nt && !hold && cfg_rt && next_tid)
 		nt = rt_adopt(next, btf);
@@ -893,8 +1030,9 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 	barrier_var(nt);
 	if (!switch_has_work(pt, nt, hold))
 		return 0;
-	voluntary = pt && !preempt && (btf ? get_task_state_btf(prev) :
-					     get_task_state(prev)) != 0;
+	if (pt && !preempt)
+		state = btf ? get_task_state_btf(prev) : get_task_state(prev);
+	voluntary = state != 0;
 	if (pt)
 		out = cycle_switch_out_path(&pt->cs, voluntary);
 	now = switch_timed(nt, hold, out) ? bpf_ktime_get_ns() : 0;
@@ -908,8 +1046,21 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 	if (pt) {
 		cf = cfg(pt->cs.mode == RTSUP_MODE_DELIM ? NULL :
 			 thread_cfg_of(prev_tid));
+		why_switch_out(&pt->why, &pt->cs, now, voluntary, state);
 		ev = cycle_switch_out_on(pt, &cf, out, now, voluntary, TREAD(btf, prev, min_flt),
 					 TREAD(btf, prev, maj_flt), &c);
+		/* preempted while released: it waits for this CPU (cause.h) */
+		if (!voluntary && now && ws) {
+			int i = why_pick(ws, prev_tid, now);
+
+			if (i >= 0 && i < WHY_WAITERS) {
+				why_arm(&ws[i], prev_tid, WHY_PREEMPTED, now);
+				ws[i].policy = TREAD(btf, prev, policy);
+				ws[i].prio = why_rt(ws[i].policy) ?
+					     (__s32)TREAD(btf, prev, rt_priority) : 0;
+			} else
+				count(RTSUP_C_WHY_BUSY);
+		}
 		if (ev & CYC_EV_BLOCK) {
 			emit(RTSUP_EV_UNSAFE, pt, now, RTSUP_U_BLOCK, 0);
 			/* prev is the current task: where it blocked */
@@ -919,12 +1070,11 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 			emit_cycle(ev, pt, now, &c, 0);
 	}
 	if (nt) {
-		__u32 cpu = bpf_get_smp_processor_id();
-
 		ev = cycle_switch_in(nt, now, cpu, TREAD(btf, next, min_flt),
 				     TREAD(btf, next, maj_flt));
 		if (ev & CYC_EV_MIGRATE)
 			emit(RTSUP_EV_UNSAFE, nt, now, RTSUP_U_MIGRATE, cpu);
+		why_settle(nt);
 	}
 	return 0;
 }
@@ -934,13 +1084,19 @@ static __always_inline int on_wakeup(struct task_struct *p, const int btf)
 {
 	__u32 tid = TREAD(btf, p, pid);
 	struct rtsup_thread *t;
+	__u64 now;
 
-	/* no target, or one whose wakeup time nobody reads: one load */
+	/* no target: one load */
+	if (!maybe_target(tid))
+		return 0;
+	now = bpf_ktime_get_ns();
+	why_wakeup(p, tid, now, btf);
+	/* a target whose wakeup time nobody reads: no lookup */
 	if (!maybe_wake_read(tid))
 		return 0;
 	t = bpf_map_lookup_elem(&threads, &tid);
 	if (t && cycle_wakeup_read(t))
-		cycle_wakeup(t, bpf_ktime_get_ns());
+		cycle_wakeup(t, now);
 	return 0;
 }
 

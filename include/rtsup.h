@@ -233,6 +233,103 @@ struct rtsup_cycle_state {
 	__u16 pend_cnt[RTSUP_PEND_SYS];
 };
 
+/*
+ * Cause attribution (include/cause.h): why a cycle ended late. A task
+ * named in a cause: who held the CPU, preempted the target or woke it.
+ * tid 0 is the idle task (the CPU was idle).
+ */
+struct rtsup_who {
+	__u32 tid;
+	__u32 tgid;
+	__u32 policy;		/* SCHED_* */
+	__s32 prio;		/* rt_priority for FIFO/RR/DEADLINE, nice otherwise */
+	char comm[RTSUP_COMM_LEN];
+};
+
+/* A culprit of one cycle: a task that held the target's CPU, for how long. */
+struct rtsup_culprit {
+	struct rtsup_who who;
+	__u64 ns;
+	__u32 count;		/* waits it caused */
+	__u32 pad;
+};
+
+#define RTSUP_CAUSE_TOP	3	/* culprits kept per cycle */
+
+/* The part of a late cycle that took longest: its cause. */
+enum rtsup_cause_kind {
+	RTSUP_CAUSE_NONE,
+	RTSUP_CAUSE_TIMER,	/* the wakeup came late: the machine held the CPU */
+	RTSUP_CAUSE_WAIT,	/* woken, then waited for the CPU behind 'who' */
+	RTSUP_CAUSE_PREEMPT,	/* preempted inside the cycle by 'who' */
+	RTSUP_CAUSE_BLOCK,	/* blocked inside the cycle, woken by 'who' */
+	RTSUP_CAUSE_BACKLOG,	/* released late: the previous cycle ended late */
+	RTSUP_CAUSE_EXEC,	/* its own CPU time */
+	RTSUP_CAUSE_NR,
+};
+
+/* Flags of a cause. */
+#define RTSUP_CAUSE_F_IDLE	0x01	/* the late wakeup came to an idle CPU */
+#define RTSUP_CAUSE_F_INVERSION	0x02	/* the block was ended by a lower priority task */
+#define RTSUP_CAUSE_F_DSTATE	0x04	/* the block was uninterruptible (D state) */
+#define RTSUP_CAUSE_F_INHERIT	0x08	/* backlog: 'who' is the previous cycle's culprit */
+#define RTSUP_CAUSE_F_BELOW	0x10	/* the longest holder was below the target's priority */
+
+/* Why one cycle was late, in parts (ns), and the one that won. */
+struct rtsup_cause {
+	__u32 kind;		/* enum rtsup_cause_kind */
+	__u32 flags;		/* RTSUP_CAUSE_F_* */
+	__u64 ns;		/* the winning part's time */
+	__u64 timer_ns;		/* expected release to wakeup */
+	__u64 wait_ns;		/* woken (release or block) to running */
+	__u64 preempt_ns;	/* preempted inside the cycle */
+	__u64 block_ns;		/* blocked inside the cycle */
+	__u64 backlog_ns;	/* released after its time without sleeping */
+	__u64 cpu_ns;		/* its own CPU time */
+	__u32 preempts;		/* preemptions inside the cycle */
+	__u32 blocks;		/* blocks inside the cycle */
+	__u32 block_nr;		/* syscall of the longest block (+1, 0 = none) */
+	__u32 block_op;		/* its futex operation, without flags */
+	__u64 block_max;	/* the longest block */
+	struct rtsup_who who;	/* the culprit of the winning part */
+	struct rtsup_who waker;	/* ended the longest block (or the late release's timer) */
+	struct rtsup_culprit top[RTSUP_CAUSE_TOP];	/* held the CPU, longest first */
+};
+
+/* Per-thread attribution state of the running cycle (include/cause.h). */
+struct rtsup_why {
+	struct rtsup_cause cur;	/* the running cycle so far */
+	struct rtsup_cause out;	/* the last closed cycle, sent with its miss */
+	__u64 out_ts;		/* voluntary switch-out inside the cycle, 0 = none */
+	__u32 out_dstate;	/* that block is uninterruptible */
+	__u32 sys_nr;		/* syscall in progress inside the cycle + 1 */
+	__u32 sys_op;		/* and its futex operation */
+};
+
+#define WHY_WOKEN	1	/* the target was woken and waits for the CPU */
+#define WHY_PREEMPTED	2	/* the target was preempted and waits for the CPU */
+#define WHY_RAN		4	/* it runs again: the slot waits for why_take */
+
+/*
+ * Targets that may wait for one CPU at once, each in its slot: two woken
+ * by one timer tick (a hog and its victim) both keep their wait whole.
+ */
+#define WHY_WAITERS	2
+
+/* One waiting target of a CPU (WHY_WAITERS per CPU on the BPF side). */
+struct why_slot {
+	__u32 tid;		/* the target waiting for this CPU, 0 = none */
+	__u32 state;		/* WHY_WOKEN or WHY_PREEMPTED, | WHY_RAN */
+	__u64 armed;		/* wakeup or preemption time */
+	__u64 since;		/* the running task's start on this CPU */
+	__u64 ran;		/* the target's switch-in */
+	__u64 top_ns;		/* the longest holder's time */
+	__s32 prio;		/* the target's priority at its wakeup (inversion) */
+	__u32 policy;
+	struct rtsup_who top;	/* held the CPU longest while the target waited */
+	struct rtsup_who waker;	/* the task current at the wakeup (idle: tid 0) */
+};
+
 /* Per-thread value of the map "threads", keyed by tid. */
 struct rtsup_thread {
 	struct rtsup_cycle_state cs;
@@ -263,6 +360,7 @@ struct rtsup_thread {
 	__u32 unseen_in;	/* activations begun with no switch-in seen (cycle_running) */
 	__u64 compat_sys;	/* 32-bit syscalls (ia32, arm32): other numbers, not classified */
 	struct rtsup_metric_stats m[RTSUP_M_NR];
+	struct rtsup_why why;	/* cause attribution (cause.h) */
 };
 
 #define RTSUP_CFG_DELIMS	8	/* as many as --cycle-syscall takes */
@@ -318,6 +416,7 @@ struct rtsup_event {
 	__u64 arg;
 	__u64 arg2;
 	char comm[RTSUP_COMM_LEN];
+	struct rtsup_cause cause;	/* RTSUP_EV_MISS: why; zero otherwise */
 };
 
 /* Counters kept by the BPF side about itself (array "counters"). */
@@ -328,6 +427,7 @@ enum rtsup_counter {
 	RTSUP_C_NEW,		/* threads added by the kernel side */
 	RTSUP_C_CYC_DROPS,	/* cycle records the recording buffer had no room for */
 	RTSUP_C_CAN_FULL,	/* CAN frames whose identifier did not fit the id map */
+	RTSUP_C_WHY_BUSY,	/* target wakeups not attributed: another target waited there */
 	RTSUP_C_NR,
 };
 

@@ -133,6 +133,18 @@ void collector_take_event(struct collector *c, const struct rtsup_event *e)
 	ev.comm[RTSUP_COMM_LEN - 1] = '\0';
 	comm_sanitize(ev.comm, RTSUP_COMM_LEN);
 	c->events_total++;
+	if (ev.type == RTSUP_EV_MISS) {
+		ev.cause.who.comm[RTSUP_COMM_LEN - 1] = '\0';
+		comm_sanitize(ev.cause.who.comm, RTSUP_COMM_LEN);
+		ev.cause.waker.comm[RTSUP_COMM_LEN - 1] = '\0';
+		comm_sanitize(ev.cause.waker.comm, RTSUP_COMM_LEN);
+		for (int i = 0; i < RTSUP_CAUSE_TOP; i++) {
+			ev.cause.top[i].who.comm[RTSUP_COMM_LEN - 1] = '\0';
+			comm_sanitize(ev.cause.top[i].who.comm, RTSUP_COMM_LEN);
+		}
+		causes_add(&c->causes_win, ev.tid, &ev.cause);
+		causes_add(&c->causes_life, ev.tid, &ev.cause);
+	}
 	eventlog_add(&c->events, &ev);
 }
 
@@ -512,6 +524,8 @@ int collector_sample(struct collector *c)
 	collector_poll(c, 0);
 	/* what came in the interval (the poll above was its last), in time order */
 	eventlog_finish(&c->events);
+	causes_sort(&c->causes_win);
+	causes_sort(&c->causes_life);
 	mark_unseen(&c->model);
 	err = read_threads(c);
 	if (err)
@@ -520,6 +534,8 @@ int collector_sample(struct collector *c)
 	read_unsafe_sys(c);
 	read_counters(c);
 	read_stack_counters(c);
+	/* the checks name each thread's top cause: every thread is in the model now */
+	causes_to_model(&c->causes_win, &c->causes_life, &c->model);
 	return err;
 }
 
@@ -642,6 +658,7 @@ void collector_clear_events(struct collector *c)
 {
 	eventlog_clear(&c->events);
 	stackagg_interval_end(&c->stacks);
+	causes_clear(&c->causes_win);
 }
 
 void collector_free(struct collector *c)
@@ -651,6 +668,8 @@ void collector_free(struct collector *c)
 	unwinder_free(c->unwinder);
 	stackagg_free(&c->stacks);
 	eventlog_free(&c->events);
+	causes_free(&c->causes_win);
+	causes_free(&c->causes_life);
 	model_free(&c->model);
 	free(c->batch_keys);
 	free(c->batch_vals);

@@ -8,6 +8,7 @@
 #define RTSUP_COLLECTOR_H
 
 #include <stdbool.h>
+#include "model/causes.h"
 #include "model/eventlog.h"
 #include "model/model.h"
 #include "model/stackagg.h"
@@ -31,6 +32,8 @@ struct collector {
 	__u64 untracked_scan;		/* of them, found by the start-up scan (userspace) */
 	struct eventlog events;		/* the interval's rare events (eventlog.h) */
 	__u64 events_total;		/* every rare event of the run */
+	/* deadline misses by cause (causes.h): the interval's and the run's */
+	struct causes causes_win, causes_life;
 	__s64 real_off;			/* CLOCK_REALTIME - CLOCK_MONOTONIC, ns */
 	__u64 start_ns;			/* monotonic start */
 	__u32 map_entries;		/* entries of the thread map at the last sample */

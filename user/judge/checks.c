@@ -58,13 +58,16 @@ static void check_overrun(const struct check_in *in, const struct span_view *v,
 	const struct thresholds *th = &in->rule->th;
 	__u64 bad = v->misses > v->overruns ? v->misses : v->overruns;
 	double rate = v->cycles ? (double)bad / v->cycles : 0;
+	const char *why = v == in->win ? in->why_win : in->why_life;
 
 	if (!bad || !th->miss_warn || bad < th->miss_warn)
 		return;
+	/* the cause first in the reader's eye: "..., 11 caused by noise-hog[812] FIFO/99" */
 	status_add(s, th->miss_error_rate && rate > th->miss_error_rate ? LEVEL_ERROR : LEVEL_WARN,
-		   "%llu deadline misses, %llu overruns in %llu cycles %s (%.2f %%)",
+		   "%llu deadline misses, %llu overruns in %llu cycles %s (%.2f %%)%s%s",
 		   (unsigned long long)v->misses, (unsigned long long)v->overruns,
-		   (unsigned long long)v->cycles, span, rate * 100);
+		   (unsigned long long)v->cycles, span, rate * 100, why && v->misses ? ", " : "",
+		   why && v->misses ? why : "");
 	status_count(s, "deadline_misses", v->misses);
 	status_count(s, "overruns", v->overruns);
 	status_count(s, "cycles", v->cycles);

@@ -48,6 +48,8 @@ struct check_in {
 	__u64 compat_sys;		/* 32-bit syscalls seen: not classified */
 	__u32 restarted_from;		/* tid of the dead instance it replaces, 0 = none */
 	const char *unsafe_names;	/* unsafe syscalls of the window, e.g. "mmap 1, munmap 1" */
+	/* the top cause of the misses (model/causes.h), NULL = none known */
+	const char *why_win, *why_life;
 };
 
 /* check_period - the period the checks use: configured, derived, or measured */

@@ -212,6 +212,8 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 		in.compat_sys = tm->cur.compat_sys;
 		in.restarted_from = tm->restarted_from;
 		in.unsafe_names = names;
+		in.why_win = tm->why_win[0] ? tm->why_win : NULL;
+		in.why_life = tm->why_life[0] ? tm->why_life : NULL;
 		check_thread(&in, &st);
 		old = tm->st;
 		tm->st = st;

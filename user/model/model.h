@@ -79,6 +79,8 @@ struct thread_model {
 	 */
 	struct span_view win;
 	struct span_view life;
+	/* the top cause of its deadline misses (causes.h): interval, lifetime; "" = none */
+	char why_win[160], why_life[160];
 	bool judged;			/* supervised in an earlier interval */
 	struct rtsup_thread *snap;	/* replay only: cur at the last interval */
 	struct life_hist *life_hist;	/* lifetime bucket counts, NULL until a snapshot */

@@ -192,6 +192,9 @@ static void on_mark(struct replay *r, const struct rec_interval *ri, bool end)
 		model_views(&c->model.t[i], &c->model.t[i].cur, c->model.t[i].snap, c->bank);
 	supervise_interval(r->s, &c->model, c->bank, &self, ri->mono_ns);
 	eventlog_finish(&c->events);
+	causes_sort(&c->causes_win);
+	causes_sort(&c->causes_life);
+	causes_to_model(&c->causes_win, &c->causes_life, &c->model);
 	/* like a live run: the last, partial interval, then the summary */
 	progress_end(&r->pg);
 	output_interval(c, r->s, (ri->mono_ns - r->start) / 1e9, (ri->mono_ns - r->last) / 1e9);

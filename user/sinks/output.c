@@ -8,6 +8,7 @@
 #include <jansson.h>
 #include "sinks/output.h"
 #include "sinks/output_hist.h"
+#include "model/causes.h"
 #include "model/syscalls.h"
 #include "sinks/output_can.h"
 #include "sinks/output_stacks.h"
@@ -146,6 +147,87 @@ static json_t *json_status(const struct status *st)
 			 "checks", json_checks(st->fact, st->nmsg, text));
 }
 
+/* self_pid - our own process, to name our cost in causes; unknown in a replay */
+static __u32 self_pid(const struct collector *c)
+{
+	return c->skel ? (__u32)getpid() : 0;
+}
+
+/* json_who - a task named in a cause */
+static json_t *json_who(const struct rtsup_who *w, __u32 self)
+{
+	return json_pack("{s:i,s:i,s:s,s:s,s:i,s:b}", "tid", w->tid, "tgid", w->tgid, "comm",
+			 w->comm, "policy", policy_name(w->policy), "prio", w->prio, "self",
+			 self && w->tgid == self);
+}
+
+/* json_cause - why a deadline miss happened (docs/json.md, "cause") */
+static json_t *json_cause(const struct rtsup_cause *k, __u32 self)
+{
+	json_t *o, *top = json_array(), *b = json_null();
+	const char *sys;
+	char text[200];
+	int i;
+
+	causes_text(text, sizeof(text), k->kind, k->flags, k->ns, &k->who, k, self);
+	for (i = 0; i < RTSUP_CAUSE_TOP; i++) {
+		json_t *w;
+
+		if (!k->top[i].ns)
+			continue;
+		w = json_who(&k->top[i].who, self);
+		json_object_set_new(w, "ns", json_integer(k->top[i].ns));
+		json_object_set_new(w, "count", json_integer(k->top[i].count));
+		json_array_append_new(top, w);
+	}
+	if (k->block_max) {
+		sys = k->block_nr ? syscall_name(k->block_nr - 1) : NULL;
+		b = json_pack("{s:I,s:s?,s:o,s:b,s:b}", "ns", (json_int_t)k->block_max,
+			      "syscall", sys, "waker", json_who(&k->waker, self), "inversion",
+			      !!(k->flags & RTSUP_CAUSE_F_INVERSION), "uninterruptible",
+			      !!(k->flags & RTSUP_CAUSE_F_DSTATE));
+		if (k->block_op)
+			json_object_set_new(b, "futex_op", json_integer(k->block_op - 1));
+	}
+	o = json_pack("{s:s,s:s,s:I,s:o}", "kind", cause_kind_name(k->kind), "text", text,
+		      "ns", (json_int_t)k->ns, "who",
+		      k->who.tid || k->who.comm[0] ? json_who(&k->who, self) : json_null());
+	json_object_set_new(o, "parts", json_pack("{s:I,s:I,s:I,s:I,s:I,s:I}",
+		"timer_ns", (json_int_t)k->timer_ns, "wait_ns", (json_int_t)k->wait_ns,
+		"preempt_ns", (json_int_t)k->preempt_ns, "block_ns", (json_int_t)k->block_ns,
+		"backlog_ns", (json_int_t)k->backlog_ns, "cpu_ns", (json_int_t)k->cpu_ns));
+	json_object_set_new(o, "preemptions", json_integer(k->preempts));
+	json_object_set_new(o, "blocks", json_integer(k->blocks));
+	json_object_set_new(o, "idle_cpu", json_boolean(k->flags & RTSUP_CAUSE_F_IDLE));
+	json_object_set_new(o, "inherited", json_boolean(k->flags & RTSUP_CAUSE_F_INHERIT));
+	json_object_set_new(o, "holder_below", json_boolean(k->flags & RTSUP_CAUSE_F_BELOW));
+	json_object_set_new(o, "block", b);
+	json_object_set_new(o, "culprits", top);
+	return o;
+}
+
+/* json_causes - a thread's misses grouped by cause, longest total first */
+static json_t *json_causes(const struct causes *cs, __u32 tid, __u32 self)
+{
+	const struct cause_group *g;
+	json_t *a = json_array();
+	char text[200];
+	size_t n, i;
+
+	g = causes_of(cs, tid, &n);
+	for (i = 0; i < n; i++) {
+		causes_text(text, sizeof(text), g[i].kind, g[i].flags, g[i].max_ns, &g[i].who,
+			    NULL, self);
+		json_array_append_new(a, json_pack("{s:s,s:o,s:I,s:I,s:I,s:b,s:s}", "kind",
+			cause_kind_name(g[i].kind), "who",
+			g[i].who.tid || g[i].who.comm[0] ? json_who(&g[i].who, self) : json_null(),
+			"count", (json_int_t)g[i].count, "total_ns", (json_int_t)g[i].total_ns,
+			"max_ns", (json_int_t)g[i].max_ns, "inversion",
+			!!(g[i].flags & RTSUP_CAUSE_F_INVERSION), "text", text));
+	}
+	return a;
+}
+
 /* json_thread - identity of a thread plus the requested spans */
 static json_t *json_thread(const struct collector *c, const struct supervisor *sv,
 			   const struct thread_model *tm, bool window)
@@ -177,6 +259,10 @@ static json_t *json_thread(const struct collector *c, const struct supervisor *s
 	/* --stacks: where in the code its RT-unsafe events came from */
 	if (stacks_shown(c))
 		json_object_set_new(o, "stacks", stacks_json(&c->stacks, tm->tid, window));
+	/* deadline misses by cause: the interval's, or the run's in the summary */
+	json_object_set_new(json_object_get(o, window ? "interval" : "total"), "causes",
+			    json_causes(window ? &c->causes_win : &c->causes_life, tm->tid,
+					self_pid(c)));
 	/* --hist: the summary's lifetime ones, and each interval's with --hist-interval */
 	if (c->o->hist && hist_shown(tm) && (!window || c->o->hist_interval))
 		json_object_set_new(json_object_get(o, window ? "interval" : "total"), "hist",
@@ -198,6 +284,7 @@ static json_t *json_event(const struct collector *c, const struct rtsup_event *e
 	switch (e->type) {
 	case RTSUP_EV_MISS:
 		json_object_set_new(o, "late_ns", json_integer(e->arg));
+		json_object_set_new(o, "cause", json_cause(&e->cause, self_pid(c)));
 		break;
 	case RTSUP_EV_UNSAFE:
 		json_object_set_new(o, "reason", json_string(unsafe_reason_name(e->arg)));
@@ -222,7 +309,7 @@ static json_t *json_event(const struct collector *c, const struct rtsup_event *e
  */
 static json_t *json_fold(const struct collector *c, const struct event_fold *f)
 {
-	static const char *const per_event[] = { "time", "cpu", "tgid", "late_ns", "count" };
+	static const char *const per_event[] = { "time", "cpu", "tgid", "late_ns", "cause", "count" };
 	struct rtsup_event e = { .ts = f->first_ts, .type = f->type, .tid = f->tid };
 	char first[40], last[40];
 	size_t i;
@@ -492,13 +579,16 @@ static void table_row(const struct thread_model *tm, const struct span_view *s,
 /* table_event - one line per rare event */
 static void table_event(const struct collector *c, const struct rtsup_event *e)
 {
-	char when[40], what[96];
+	char when[40], what[320], why[240];
 	const char *sys;
 
 	fmt_time(c, e->ts, when, sizeof(when));
 	switch (e->type) {
 	case RTSUP_EV_MISS:
-		snprintf(what, sizeof(what), "deadline miss, %.1f us late", e->arg / 1000.0);
+		causes_text(why, sizeof(why), e->cause.kind, e->cause.flags, e->cause.ns,
+			    &e->cause.who, &e->cause, self_pid(c));
+		snprintf(what, sizeof(what), "deadline miss, %.1f us late: %s", e->arg / 1000.0,
+			 why);
 		break;
 	case RTSUP_EV_UNSAFE:
 		sys = e->arg == RTSUP_U_SYSCALL ? syscall_name(e->arg2) : NULL;
@@ -591,6 +681,25 @@ static void table_interval(const struct collector *c, const struct supervisor *s
 	fflush(stdout);
 }
 
+/* table_causes - a thread's misses by cause, the cause first, numbers after */
+static void table_causes(const struct causes *cs, const struct thread_model *tm, __u32 self)
+{
+	const struct cause_group *g;
+	char text[200];
+	size_t n, i;
+
+	g = causes_of(cs, tm->tid, &n);
+	for (i = 0; i < n && i < 5; i++) {
+		causes_text(text, sizeof(text), g[i].kind, g[i].flags, g[i].max_ns, &g[i].who,
+			    NULL, self);
+		printf("    %llu miss%s: %s (max); %.3f ms in all\n",
+		       (unsigned long long)g[i].count, g[i].count == 1 ? "" : "es", text,
+		       g[i].total_ns / 1e6);
+	}
+	if (n > 5)
+		printf("    ... %zu other causes\n", n - 5);
+}
+
 static void table_summary(const struct collector *c, const struct supervisor *sv,
 			  double elapsed)
 {
@@ -629,6 +738,7 @@ static void table_summary(const struct collector *c, const struct supervisor *sv
 			printf(" %s=%llu", syscall_name(tm->sys[j].nr) ?: "?",
 			       (unsigned long long)tm->sys[j].total);
 		printf("\n");
+		table_causes(&c->causes_life, tm, self_pid(c));
 	}
 	if (stacks_shown(c))
 		stacks_table(stdout, &c->stacks, &c->model, false);

@@ -23,6 +23,7 @@
 #include "sinks/errline.h"
 #include "sinks/jsonstr.h"
 #include "sinks/perfetto.h"
+#include "model/causes.h"
 
 #define WRITE_BUF	(256 * 1024)
 /* args in microseconds: 15 digits give 3 decimals below 10^12 us, no noise */
@@ -208,7 +209,7 @@ void perfetto_cycle(struct perfetto *p, __u32 tgid, __u32 tid, const struct rtsu
 
 void perfetto_event(struct perfetto *p, const struct rtsup_event *e)
 {
-	char ts[32], prefix[64], name[64];
+	char ts[32], prefix[64], name[64], why[200];
 	json_t *a;
 
 	if (!p || p->err)
@@ -220,8 +221,15 @@ void perfetto_event(struct perfetto *p, const struct rtsup_event *e)
 	}
 	switch (e->type) {
 	case RTSUP_EV_MISS:
+		/* the late cycle annotated with its cause (model/causes.h) */
 		snprintf(name, sizeof(name), "deadline miss");
 		json_object_set_new(a, "late_us", json_us(e->arg));
+		json_object_set_new(a, "kind", json_string(cause_kind_name(e->cause.kind)));
+		causes_text(why, sizeof(why), e->cause.kind, e->cause.flags, e->cause.ns,
+			    &e->cause.who, &e->cause, 0);
+		json_object_set_new(a, "cause", json_str(why, sizeof(why)));
+		if (e->cause.who.tid)
+			json_object_set_new(a, "culprit_tid", json_integer(e->cause.who.tid));
 		break;
 	case RTSUP_EV_UNSAFE:
 		snprintf(name, sizeof(name), "unsafe: %s",

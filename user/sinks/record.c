@@ -475,7 +475,8 @@ int rec_next(struct rec_reader *r, enum rec_type *type, void *buf, size_t *len,
 		r_fail(r, "record length %u over the maximum %d", l16, REC_MAX_PAYLOAD);
 		goto out;
 	}
-	if (l16 != want) {
+	/* an event recorded before it carried its cause: read with none */
+	if (l16 != want && !(t16 == REC_EVENT && l16 == REC_EVENT_NO_CAUSE)) {
 		r_fail(r, "%s record of %u bytes, expected %zu", rec_type_name(t16), l16,
 		       want);
 		goto out;
@@ -496,6 +497,10 @@ int rec_next(struct rec_reader *r, enum rec_type *type, void *buf, size_t *len,
 	*type = t16;
 	*len = l16;
 	r->off += sizeof(hdr) + l16;
+	if (l16 < want) {
+		memset((char *)buf + l16, 0, want - l16);
+		*len = want;
+	}
 	return 1;
 out:
 	seterr(err, errlen, "%s", r->msg);

@@ -19,6 +19,8 @@
 #define REC_MAGIC	"RTSUPREC"
 #define REC_VERSION	1
 #define REC_MAX_PAYLOAD	4096
+/* an event of a recording made before events carried their cause (issue 14) */
+#define REC_EVENT_NO_CAUSE	offsetof(struct rtsup_event, cause)
 
 struct rec_header {
 	char kernel[128];	/* uname -r -v */

@@ -314,6 +314,24 @@ static void test_checks_miss_warn(void **state)
 		   "5 deadline misses, 0 overruns in 1000 cycles in the last interval (0.50 %)");
 }
 
+/* the misses' top cause (model/causes.h) follows the numbers */
+static void test_checks_miss_names_cause(void **state)
+{
+	W.misses = 5;
+	IN.why_win = "4 caused by noise-hog[812] FIFO/99 (wait, 3.1 ms max)";
+	run();
+	expect_one(LEVEL_WARN,
+		   "5 deadline misses, 0 overruns in 1000 cycles in the last interval (0.50 %), "
+		   "4 caused by noise-hog[812] FIFO/99 (wait, 3.1 ms max)");
+	/* overruns alone: no miss to explain */
+	W.misses = 0;
+	W.overruns = 5;
+	run();
+	expect_one(LEVEL_WARN,
+		   "0 deadline misses, 5 overruns in 1000 cycles in the last interval (0.50 %)");
+	IN.why_win = NULL;
+}
+
 static void test_checks_miss_at_rate_warn(void **state)
 {
 	W.misses = 10;		/* exactly 1 %: not above */
@@ -1183,6 +1201,7 @@ int main(void)
 		C(test_checks_starve_last_cycle_after_now),
 		C(test_checks_ns_since_clamps),
 		C(test_checks_miss_warn),
+		C(test_checks_miss_names_cause),
 		C(test_checks_miss_at_rate_warn),
 		C(test_checks_miss_rate_error),
 		C(test_checks_overrun_without_miss),

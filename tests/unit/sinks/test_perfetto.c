@@ -291,6 +291,9 @@ static void test_perfetto_structure(void **state)
 	assert_int_equal(iget(x, "tid"), 101);
 	assert_num(x, "ts", 1234568000.000);
 	assert_num(json_object_get(x, "args"), "late_us", 1.5);
+	/* annotated with its cause: none measured in this synthetic event */
+	assert_string_equal(sget(json_object_get(x, "args"), "kind"), "none");
+	assert_string_equal(sget(json_object_get(x, "args"), "cause"), "no cause measured");
 	assert_int_equal(iget(json_object_get(x, "args"), "cpu"), 3);
 	x = find(ev, "i", "unsafe: syscall", 0);
 	assert_non_null(x);

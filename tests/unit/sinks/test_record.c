@@ -619,6 +619,50 @@ static void test_record_size_mismatch(void **state)
 	free(b);
 }
 
+/* an event recorded before events carried a cause: read, with no cause */
+static void test_record_event_without_cause(void **state)
+{
+	unsigned char payload_buf[REC_MAX_PAYLOAD], *b;
+	struct rtsup_event e = { .ts = 5, .type = RTSUP_EV_MISS, .tid = 7, .arg = 42 };
+	__u16 t = REC_EVENT, len = REC_EVENT_NO_CAUSE;
+	struct fx *f = *state;
+	struct rec_reader *r;
+	struct rec_header h;
+	struct layout l;
+	enum rec_type type;
+	char err[ERRLEN];
+	size_t size, got, n = 0;
+	__u32 crc = crc32(0L, (const unsigned char *)&e, len);
+	FILE *o;
+
+	write_trace(f->path, 0, false, &l);
+	b = slurp(f->path, &size);
+	spill(f->path2, b, size);
+	free(b);
+	o = fopen(f->path2, "ab");
+	assert_non_null(o);
+	fwrite(&t, 2, 1, o);
+	fwrite(&len, 2, 1, o);
+	fwrite(&crc, 4, 1, o);
+	fwrite(&e, 1, len, o);
+	fclose(o);
+	assert_int_equal(rec_open(&r, f->path2, &h, err, ERRLEN), 0);
+	memset(payload_buf, 0xff, sizeof(payload_buf));
+	while (rec_next(r, &type, payload_buf, &got, err, ERRLEN) == 1)
+		n++;
+	/* the last record read is the old event, its cause zero */
+	assert_int_equal(type, REC_EVENT);
+	assert_int_equal(got, sizeof(struct rtsup_event));
+	memcpy(&e, payload_buf, sizeof(e));
+	assert_int_equal(e.tid, 7);
+	assert_int_equal(e.arg, 42);
+	assert_int_equal(e.cause.kind, RTSUP_CAUSE_NONE);
+	assert_int_equal(e.cause.who.tid, 0);
+	assert_int_equal(n, 1);
+	rec_free(r);
+	free(h.config_text);
+}
+
 /* headers that are cut, too long, not JSON, not an object, mistyped */
 static void test_record_bad_header(void **state)
 {
@@ -883,6 +927,7 @@ int main(void)
 		T(test_record_version),
 		T(test_record_bad_record_header),
 		T(test_record_size_mismatch),
+		T(test_record_event_without_cause),
 		T(test_record_bad_header),
 		T(test_record_missing_file),
 		T(test_record_create_fails),

@@ -1,0 +1,194 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/*
+ * why_late - a periodic SCHED_FIFO thread made late on purpose, for the
+ * cause attribution tests (test_why.py). Every thread is pinned to one CPU.
+ *
+ *   why_late hog CPU SECONDS
+ *	"why-rt" FIFO 50, 1 ms period, 100 us of work; "why-hog" FIFO 60
+ *	burns 3 ms every 100 ms.
+ *   why_late mutex|pi CPU SECONDS
+ *	"why-rt" FIFO 50, 1 ms period, takes a mutex (plain, or priority
+ *	inheritance) each cycle; "why-owner" FIFO 10 holds it for 2 ms every
+ *	50 ms.
+ *   why_late alone CPU SECONDS
+ *	"why-rt" alone (the noise comes from outside: rtsup-noise inject).
+ *   why_late preempt CPU SECONDS
+ *	"why-rt" FIFO 50, 5 ms period, 3 ms of work; "why-preemptor" FIFO 70
+ *	burns 4 ms every 50 ms (so it comes inside why-rt's work).
+ *
+ * At the end one JSON line on stdout: what the program itself saw: the
+ * tids, the bursts (or lock holds) done, the deadline misses why-rt saw
+ * (its work ended after its next release) and the longest burst.
+ */
+#define _GNU_SOURCE
+#include <errno.h>
+#include <pthread.h>
+#include <sched.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <time.h>
+#include <unistd.h>
+
+#define MS 1000000LL
+
+static int cpu;
+static int64_t end_ns;
+static pthread_mutex_t lock;
+static volatile int rt_tid, other_tid;
+static long bursts, misses, cycles;
+static int64_t burst_max;
+
+static int64_t now_ns(void)
+{
+	struct timespec ts;
+
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (int64_t)ts.tv_sec * 1000000000LL + ts.tv_nsec;
+}
+
+static void die(const char *what)
+{
+	fprintf(stderr, "why_late: %s: %s\n", what, strerror(errno));
+	exit(1);
+}
+
+/* rt_self - name, pin and prioritise the calling thread */
+static void rt_self(const char *name, int prio)
+{
+	struct sched_param sp = { .sched_priority = prio };
+	cpu_set_t set;
+
+	pthread_setname_np(pthread_self(), name);
+	CPU_ZERO(&set);
+	CPU_SET(cpu, &set);
+	if (pthread_setaffinity_np(pthread_self(), sizeof(set), &set))
+		die("affinity");
+	errno = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp);
+	if (errno)
+		die("SCHED_FIFO (run as root)");
+}
+
+static void burn_until(int64_t t)
+{
+	while (now_ns() < t)
+		;
+}
+
+static void sleep_until(int64_t t)
+{
+	struct timespec ts = { t / 1000000000LL, t % 1000000000LL };
+
+	while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR)
+		;
+}
+
+struct rt_args {
+	int64_t period, work;
+	int use_lock;
+};
+
+/* periodic - why-rt: work, then sleep to the next absolute release */
+static void *periodic(void *p)
+{
+	const struct rt_args *a = p;
+	int64_t next;
+
+	rt_self("why-rt", 50);
+	rt_tid = gettid();
+	next = now_ns() + a->period;
+	while (next < end_ns) {
+		sleep_until(next);
+		if (a->use_lock)
+			pthread_mutex_lock(&lock);
+		burn_until(now_ns() + a->work);
+		if (a->use_lock)
+			pthread_mutex_unlock(&lock);
+		next += a->period;
+		cycles++;
+		/* as the tracer judges: the next release is past at the sleep */
+		if (now_ns() >= next)
+			misses++;
+	}
+	return NULL;
+}
+
+struct other_args {
+	const char *name;
+	int prio;
+	int64_t every, burn;
+	int use_lock;
+};
+
+/* other - the hog, the preemptor or the lock owner: burn at known times */
+static void *other(void *p)
+{
+	const struct other_args *a = p;
+	int64_t next, t0;
+
+	rt_self(a->name, a->prio);
+	other_tid = gettid();
+	next = now_ns() + 200 * MS;	/* let why-rt settle first */
+	while (next + a->burn < end_ns - 50 * MS) {
+		sleep_until(next);
+		t0 = now_ns();
+		if (a->use_lock)
+			pthread_mutex_lock(&lock);
+		burn_until(t0 + a->burn);
+		if (a->use_lock)
+			pthread_mutex_unlock(&lock);
+		if (now_ns() - t0 > burst_max)
+			burst_max = now_ns() - t0;
+		bursts++;
+		/* +-10 ms so that it never locks to why-rt's phase */
+		next += a->every + (rand() % 21 - 10) * MS;
+	}
+	return NULL;
+}
+
+int main(int argc, char **argv)
+{
+	struct rt_args ra = { 1 * MS, 100000, 0 };
+	struct other_args oa = { "why-hog", 60, 100 * MS, 3 * MS, 0 };
+	pthread_mutexattr_t ma;
+	pthread_t a, b;
+	const char *mode;
+
+	if (argc != 4) {
+		fprintf(stderr, "usage: why_late hog|mutex|pi|preempt|alone CPU SECONDS\n");
+		return 1;
+	}
+	mode = argv[1];
+	cpu = atoi(argv[2]);
+	end_ns = now_ns() + (int64_t)(atof(argv[3]) * 1e9);
+	if (mlockall(MCL_CURRENT | MCL_FUTURE))
+		die("mlockall");
+	pthread_mutexattr_init(&ma);
+	if (!strcmp(mode, "mutex") || !strcmp(mode, "pi")) {
+		if (!strcmp(mode, "pi"))
+			pthread_mutexattr_setprotocol(&ma, PTHREAD_PRIO_INHERIT);
+		ra.use_lock = 1;
+		oa = (struct other_args){ "why-owner", 10, 50 * MS, 2 * MS, 1 };
+	} else if (!strcmp(mode, "preempt")) {
+		ra = (struct rt_args){ 5 * MS, 3 * MS, 0 };
+		oa = (struct other_args){ "why-preemptor", 70, 50 * MS, 4 * MS, 0 };
+	} else if (strcmp(mode, "hog") && strcmp(mode, "alone")) {
+		fprintf(stderr, "why_late: %s: unknown mode\n", mode);
+		return 1;
+	}
+	pthread_mutex_init(&lock, &ma);
+	srand(1);
+	if (pthread_create(&a, NULL, periodic, &ra))
+		die("pthread_create");
+	if (strcmp(mode, "alone") && pthread_create(&b, NULL, other, &oa))
+		die("pthread_create");
+	pthread_join(a, NULL);
+	if (strcmp(mode, "alone"))
+		pthread_join(b, NULL);
+	printf("{\"pid\": %d, \"rt_tid\": %d, \"other_tid\": %d, \"other\": \"%s\", \"prio\": %d, "
+	       "\"bursts\": %ld, \"burst_max_ns\": %lld, \"cycles\": %ld, \"misses\": %ld}\n",
+	       getpid(), rt_tid, other_tid, oa.name, oa.prio, bursts, (long long)burst_max, cycles, misses);
+	return 0;
+}

@@ -1,0 +1,211 @@
+# SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+"""Why it was late (issue 14): a small program (progs/why_late.c) makes its
+periodic thread why-rt late on purpose, with a culprit it names and counts
+itself (a hog, a lock owner, a preemptor on why-rt's CPU); every deadline
+miss rtsup-trace reports must carry that culprit.
+"""
+import json
+import os
+import subprocess
+
+import pytest
+
+from conftest import BUILD, EMULATED, NOISE, Trace
+
+WHY_LATE = BUILD / "progs" / "why_late"
+# the last CPU: the tests' own Python and rtsup-trace mostly run elsewhere
+CPU = str(os.cpu_count() - 1)
+MS = 1000000
+
+pytestmark = pytest.mark.skipif(EMULATED, reason="host only: the program's timing")
+
+
+def run_why(mode, seconds=3, args=()):
+    """Trace why_late MODE; return (its truth, why-rt's summary, the intervals)."""
+    tr = Trace(["--comm", "why_late"] + list(args))
+    # rtsup-trace's own reads of its maps hold a CPU for up to ~1 ms on a
+    # kernel without full preemption: a cost it names as its own (the
+    # 'self' culprit), kept off the CPU under test here
+    if os.cpu_count() > 1:
+        os.sched_setaffinity(tr.proc.pid, {0})
+    try:
+        r = subprocess.run([str(WHY_LATE), mode, CPU, str(seconds)], check=True,
+                           capture_output=True, text=True, timeout=60)
+        intervals, summary, _ = tr.stop()
+    finally:
+        if tr.proc.poll() is None:
+            tr.proc.kill()
+    truth = json.loads(r.stdout)
+    rt = [t for t in summary["threads"] if t["tid"] == truth["rt_tid"]]
+    assert len(rt) == 1, summary["threads"]
+    return truth, rt[0], intervals
+
+
+def groups(rt):
+    """why-rt's misses by cause over the run: every miss, none folded."""
+    return rt["total"]["causes"]
+
+
+def by_culprit(gs, tid, kinds=None):
+    return [g for g in gs if g["who"] and g["who"]["tid"] == tid and
+            (kinds is None or g["kind"] in kinds)]
+
+
+def elsewhere(g, truth, also=()):
+    """Is this group of misses the machine's or another program's? The host is
+    shared: other tests' tracers, generators, noise injectors and VMs run on
+    it, and a hypervisor steals time. Those misses are named (a task outside
+    why_late and 'also', or 'timer': the machine; a backlog or wait behind no
+    task follows one of those), not hidden; the test cannot know their truth,
+    so they are left out of the shares below."""
+    if g["who"]:
+        return g["who"]["tgid"] != truth["pid"] and g["who"]["tgid"] not in also
+    return g["kind"] in ("timer", "backlog", "wait")
+
+
+def count(gs):
+    return sum(g["count"] for g in gs)
+
+
+def check_named(gs, truth, culprit_tid, also=(), every_burst=True):
+    """>= 95 % of the misses the test knows the truth of name the culprit; and
+    (every_burst: a burst always makes a miss) each of its bursts made one
+    miss name it for a wait or a preemption, but those whose cycle had a
+    bigger part from elsewhere (a burst of foreign noise in the same cycle
+    wins). Returns the culprit's wait/preemption groups."""
+    ours = [g for g in gs if not elsewhere(g, truth, also)]
+    named = by_culprit(ours, culprit_tid)
+    assert count(named) >= 0.95 * count(ours), gs
+    held = by_culprit(gs, culprit_tid, ("wait", "preemption"))
+    other_held = [g for g in gs if elsewhere(g, truth, also) and g["kind"] != "backlog"]
+    if every_burst:
+        assert count(held) >= truth["bursts"] - count(other_held), (truth, gs)
+    return held
+
+
+def miss_events(intervals, tid):
+    return [e for i in intervals for e in i["events"]
+            if e["event"] == "deadline_miss" and e["tid"] == tid]
+
+
+def test_fifo_hog_is_named(bpf):
+    """FIFO 60 why-hog burns 3 ms every 100 ms on why-rt's CPU (FIFO 50,
+    1 ms period): >= 95 % of the misses name the hog; the rest may be the
+    machine's own (a hypervisor's steal on a shared host: those are named
+    'timer' and counted apart, not hidden)."""
+    truth, rt, intervals = run_why("hog")
+    gs = groups(rt)
+    misses = sum(g["count"] for g in gs)
+    assert misses == rt["total"]["deadline_misses"], gs
+    assert truth["bursts"] >= 20, truth
+    assert misses >= truth["bursts"], (truth, gs)
+    hog = by_culprit(gs, truth["other_tid"])
+    held = check_named(gs, truth, truth["other_tid"])
+    assert all(g["who"]["comm"] == "why-hog" and g["who"]["prio"] == 60 and
+               g["who"]["policy"] == "SCHED_FIFO" for g in hog), hog
+    # each burst makes why-rt wait (woken inside it) or be preempted (running
+    # when it came) for the rest of the burst: at least the burst minus one
+    # period (why-rt's release is at most 1 ms after the burst began), less
+    # the burst's start and end seen by the program and by the kernel apart
+    # (tens of us; 200 us each)
+    assert sum(g["total_ns"] for g in held) >= count(held) * (3 * MS - 1 * MS - 200000), \
+        (truth, gs)
+    # the hog's share of one cycle's wait is one burst at most
+    for g in by_culprit(gs, truth["other_tid"], ("wait", "preemption")):
+        assert g["max_ns"] <= truth["burst_max_ns"] + 200000, (truth, g)
+    # each miss event says it in JSON too
+    ev = miss_events(intervals, truth["rt_tid"])
+    assert ev and all("cause" in e for e in ev)
+    # a wait's or preemption's culprit is the longest holder, with its share
+    for e in ev:
+        c = e["cause"]
+        if c["kind"] in ("wait", "preemption") and c["who"]:
+            assert c["culprits"][0]["tid"] == c["who"]["tid"], e
+            assert c["culprits"][0]["ns"] == c["ns"], e
+            assert c["ns"] <= c["parts"]["wait_ns"] + c["parts"]["preempt_ns"], e
+
+
+@pytest.mark.parametrize("mode", ["mutex", "pi"])
+def test_priority_inversion_on_plain_mutex(bpf, mode):
+    """FIFO 10 why-owner holds a mutex 2 ms every 50 ms; FIFO 50 why-rt takes
+    it each cycle: the misses are blocks woken by the owner; with a plain
+    mutex (FUTEX_WAIT) an inversion, with a PI mutex (FUTEX_LOCK_PI) none."""
+    truth, rt, intervals = run_why(mode)
+    gs = groups(rt)
+    blocks = by_culprit(gs, truth["other_tid"], ("block",))
+    assert blocks, gs
+    assert all(g["who"]["comm"] == "why-owner" and g["who"]["prio"] == 10 for g in blocks)
+    # each hold blocks why-rt for >= 1 ms (its release is at most 1 ms after
+    # the hold began) + 100 us of work: one miss at least per hold, named for
+    # the block but when a bigger part of that cycle came from elsewhere
+    # (foreign noise on a shared host), and the last hold may end with the run
+    other = [g for g in gs if elsewhere(g, truth) and g["kind"] != "backlog"]
+    assert count(blocks) >= truth["bursts"] - 1 - count(other), (truth, gs)
+    # the flag is the cycle's longest block's: a cycle that waited longer
+    # behind foreign noise than it blocked keeps it under another cause
+    inversions = [g for g in gs if g["inversion"] and g["kind"] == "block"]
+    if mode == "mutex":
+        assert inversions and all(g["who"]["tid"] == truth["other_tid"] for g in inversions)
+    else:
+        assert not [g for g in gs if g["inversion"]], gs
+    ev = [e for e in miss_events(intervals, truth["rt_tid"]) if e["cause"]["kind"] == "block"]
+    assert ev, intervals
+    for e in ev:
+        b = e["cause"]["block"]
+        assert b["syscall"] == "futex" and b["waker"]["tid"] == truth["other_tid"], e
+        # FUTEX_WAIT (0) or FUTEX_WAIT_BITSET (9) for glibc's plain mutex; FUTEX_LOCK_PI (6)
+        assert b["futex_op"] in ((0, 9) if mode == "mutex" else (6,)), e
+        assert b["inversion"] == (mode == "mutex"), e
+
+
+def test_preemptor_is_named(bpf):
+    """FIFO 70 why-preemptor burns 4 ms every 50 ms inside why-rt's 3 ms of
+    work in 5 ms: the misses name it, some of them as preemptions."""
+    truth, rt, _ = run_why("preempt")
+    gs = groups(rt)
+    # a burst that comes while why-rt sleeps with 2 ms to spare may make no miss
+    check_named(gs, truth, truth["other_tid"], every_burst=False)
+    pre = by_culprit(gs, truth["other_tid"], ("preemption",))
+    assert pre and all(g["who"]["comm"] == "why-preemptor" and g["who"]["prio"] == 70
+                       for g in pre), gs
+    # the preemptor's share lasts the burst, never longer (+ the two clocks' 200 us)
+    assert max(g["max_ns"] for g in pre) <= truth["burst_max_ns"] + 200000, (truth, pre)
+
+
+def test_noise_injector_is_named(bpf):
+    """rtsup-noise inject (a FIFO 99 thread per CPU burning 3 ms every 30 ms
+    +-25 %) against why-rt alone: the misses name the injector's thread on
+    why-rt's CPU."""
+    noise = subprocess.Popen([str(NOISE), "inject", "-b", "3ms", "-e", "30ms", "-d", "5s"],
+                             stdout=subprocess.DEVNULL)
+    try:
+        truth, rt, _ = run_why("alone")
+    finally:
+        noise.wait(timeout=30)
+    gs = groups(rt)
+    misses = sum(g["count"] for g in gs)
+    # 3 s of 3 ms bursts every ~30 ms: about 100, each a miss at least
+    assert misses >= 50, gs
+    named = [g for g in gs if g["who"] and g["who"]["tgid"] == noise.pid]
+    assert named and all(g["who"]["comm"] == "rtsup-noise" and g["who"]["prio"] == 99
+                         for g in named)
+    ours = [g for g in gs if not elsewhere(g, truth, also=(noise.pid,))]
+    assert count(named) >= 0.95 * count(ours), gs
+
+
+def test_replay_gives_the_same_causes(bpf, tmp_path):
+    """--record keeps every miss's cause: the replay groups them the same."""
+    rec = tmp_path / "why.rec"
+    truth, rt, _ = run_why("hog", args=["--record", str(rec)])
+    r = subprocess.run([str(BUILD / "rtsup-trace"), "replay", str(rec), "-j"],
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+    summary = json.loads(r.stdout.splitlines()[-1])
+    again = [t for t in summary["threads"] if t["tid"] == truth["rt_tid"]]
+    assert len(again) == 1
+    strip = [{k: g[k] for k in ("kind", "count", "total_ns", "max_ns", "inversion")} |
+             {"who": g["who"] and (g["who"]["tid"], g["who"]["comm"])}
+             for g in groups(rt)]
+    assert groups(rt) and strip == [
+        {k: g[k] for k in ("kind", "count", "total_ns", "max_ns", "inversion")} |
+        {"who": g["who"] and (g["who"]["tid"], g["who"]["comm"])} for g in groups(again[0])]

@@ -1,0 +1,128 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/*
+ * test_causes.c - deadline misses grouped by cause and culprit
+ * (user/model/causes.c), their text, and the verdict's short form.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "model/causes.h"
+#include "model/model.h"
+
+#define MS 1000000ULL
+
+static struct rtsup_cause cause(__u32 kind, __u32 who_tid, const char *comm, __u64 ns)
+{
+	struct rtsup_cause c;
+
+	memset(&c, 0, sizeof(c));
+	c.kind = kind;
+	c.ns = ns;
+	c.who.tid = who_tid;
+	c.who.tgid = who_tid;
+	c.who.policy = 1;
+	c.who.prio = 99;
+	strncpy(c.who.comm, comm, sizeof(c.who.comm) - 1);
+	return c;
+}
+
+/* every miss counted in its group: by thread, kind and culprit, longest first */
+static void test_causes_grouped_by_thread_kind_culprit(void **state)
+{
+	struct causes cs = { 0 };
+	struct rtsup_cause w = cause(RTSUP_CAUSE_WAIT, 812, "noise-hog", 3 * MS);
+	struct rtsup_cause b = cause(RTSUP_CAUSE_BACKLOG, 812, "noise-hog", 2 * MS);
+	struct rtsup_cause t = cause(RTSUP_CAUSE_TIMER, 0, "", 1 * MS);
+	const struct cause_group *g;
+	size_t n;
+
+	causes_add(&cs, 100, &t);
+	causes_add(&cs, 100, &w);
+	causes_add(&cs, 100, &b);
+	w.ns = 2 * MS;
+	causes_add(&cs, 100, &w);
+	causes_add(&cs, 7, &w);	/* another thread: its own group */
+	causes_sort(&cs);
+	g = causes_of(&cs, 100, &n);
+	assert_int_equal(n, 3);
+	assert_int_equal(g[0].kind, RTSUP_CAUSE_WAIT);
+	assert_int_equal(g[0].count, 2);
+	assert_int_equal(g[0].total_ns, 5 * MS);
+	assert_int_equal(g[0].max_ns, 3 * MS);
+	assert_int_equal(g[1].kind, RTSUP_CAUSE_BACKLOG);
+	assert_int_equal(g[2].kind, RTSUP_CAUSE_TIMER);
+	g = causes_of(&cs, 7, &n);
+	assert_int_equal(n, 1);
+	assert_null(causes_of(&cs, 8, &n));
+	assert_int_equal(n, 0);
+	causes_free(&cs);
+}
+
+/* the text a person reads first: the cause, then the numbers */
+static void test_causes_text(void **state)
+{
+	struct rtsup_cause c = cause(RTSUP_CAUSE_WAIT, 812, "noise-hog", 3100000);
+	char buf[200];
+
+	causes_text(buf, sizeof(buf), c.kind, 0, c.ns, &c.who, &c, 0);
+	assert_string_equal(buf, "woken, then waited 3.100 ms for the CPU behind "
+				 "noise-hog[812] FIFO/99");
+	/* our own threads say so */
+	causes_text(buf, sizeof(buf), c.kind, 0, c.ns, &c.who, &c, 812);
+	assert_non_null(strstr(buf, "(rtsup-trace itself)"));
+	c = cause(RTSUP_CAUSE_BLOCK, 900, "owner", 2 * MS);
+	c.who.prio = 10;
+	c.block_op = 1;	/* FUTEX_WAIT + 1 */
+	causes_text(buf, sizeof(buf), c.kind, RTSUP_CAUSE_F_INVERSION, c.ns, &c.who, &c, 0);
+	assert_string_equal(buf, "blocked 2.000 ms in futex FUTEX_WAIT, woken by owner[900] "
+				 "FIFO/10: priority inversion");
+	c = cause(RTSUP_CAUSE_TIMER, 0, "", 4600000);
+	causes_text(buf, sizeof(buf), c.kind, RTSUP_CAUSE_F_IDLE, c.ns, &c.who, &c, 0);
+	assert_string_equal(buf, "woken 4.600 ms after its release: machine / timer latency "
+				 "(idle CPU: idle exit)");
+}
+
+/* the verdict's short form: the top group of each thread, interval and life */
+static void test_causes_to_model(void **state)
+{
+	struct causes win = { 0 }, life = { 0 };
+	struct rtsup_cause c = cause(RTSUP_CAUSE_PREEMPT, 812, "noise-hog", 3100000);
+	struct thread_model t[2];
+	struct model m;
+
+	memset(&m, 0, sizeof(m));
+	memset(t, 0, sizeof(t));
+	t[0].tid = 100;
+	t[1].tid = 101;
+	strcpy(t[1].why_win, "stale");
+	m.t = t;
+	m.n = 2;
+	causes_add(&win, 100, &c);
+	causes_add(&life, 100, &c);
+	causes_add(&life, 100, &c);
+	causes_sort(&win);
+	causes_sort(&life);
+	causes_to_model(&win, &life, &m);
+	assert_string_equal(t[0].why_win, "1 caused by noise-hog[812] FIFO/99 (preemption, "
+					  "3.1 ms max)");
+	assert_string_equal(t[0].why_life, "2 caused by noise-hog[812] FIFO/99 (preemption, "
+					   "3.1 ms max)");
+	assert_string_equal(t[1].why_win, "");
+	causes_free(&win);
+	causes_free(&life);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_causes_grouped_by_thread_kind_culprit),
+		cmocka_unit_test(test_causes_text),
+		cmocka_unit_test(test_causes_to_model),
+	};
+
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}

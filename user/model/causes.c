@@ -1,0 +1,260 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/* causes.c - deadline misses grouped by cause and culprit, and their text */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "model/causes.h"
+#include "model/model.h"
+#include "model/syscalls.h"
+
+static const char *const kind_names[RTSUP_CAUSE_NR] = {
+	[RTSUP_CAUSE_NONE] = "none",
+	[RTSUP_CAUSE_TIMER] = "timer",
+	[RTSUP_CAUSE_WAIT] = "wait",
+	[RTSUP_CAUSE_PREEMPT] = "preemption",
+	[RTSUP_CAUSE_BLOCK] = "block",
+	[RTSUP_CAUSE_BACKLOG] = "backlog",
+	[RTSUP_CAUSE_EXEC] = "exec",
+};
+
+const char *cause_kind_name(__u32 kind)
+{
+	return kind < RTSUP_CAUSE_NR ? kind_names[kind] : "unknown";
+}
+
+/* same_group - one group per thread, kind and culprit */
+static int same_group(const struct cause_group *g, __u32 tid, const struct rtsup_cause *c)
+{
+	return g->tid == tid && g->kind == c->kind && g->who.tid == c->who.tid &&
+	       !strncmp(g->who.comm, c->who.comm, RTSUP_COMM_LEN);
+}
+
+void causes_add(struct causes *cs, __u32 tid, const struct rtsup_cause *c)
+{
+	struct cause_group *g = NULL;
+	size_t i;
+
+	for (i = 0; i < cs->n; i++)
+		if (same_group(&cs->g[i], tid, c)) {
+			g = &cs->g[i];
+			break;
+		}
+	if (!g) {
+		if (cs->n == cs->cap) {
+			size_t cap = cs->cap ? cs->cap * 2 : 16;
+			struct cause_group *ng = realloc(cs->g, cap * sizeof(*ng));
+
+			if (!ng) {
+				cs->dropped++;
+				return;
+			}
+			cs->g = ng;
+			cs->cap = cap;
+		}
+		g = &cs->g[cs->n++];
+		memset(g, 0, sizeof(*g));
+		g->tid = tid;
+		g->kind = c->kind;
+		g->who = c->who;
+		g->who.comm[RTSUP_COMM_LEN - 1] = '\0';
+	}
+	g->flags |= c->flags;
+	g->count++;
+	g->total_ns += c->ns;
+	if (c->ns > g->max_ns)
+		g->max_ns = c->ns;
+}
+
+static int cmp_group(const void *a, const void *b)
+{
+	const struct cause_group *x = a, *y = b;
+
+	if (x->tid != y->tid)
+		return x->tid < y->tid ? -1 : 1;
+	if (x->total_ns != y->total_ns)
+		return x->total_ns > y->total_ns ? -1 : 1;
+	return x->count > y->count ? -1 : x->count < y->count;
+}
+
+void causes_sort(struct causes *cs)
+{
+	if (cs->n)
+		qsort(cs->g, cs->n, sizeof(*cs->g), cmp_group);
+}
+
+const struct cause_group *causes_of(const struct causes *cs, __u32 tid, size_t *n)
+{
+	size_t i, j;
+
+	for (i = 0; i < cs->n && cs->g[i].tid != tid; i++)
+		;
+	for (j = i; j < cs->n && cs->g[j].tid == tid; j++)
+		;
+	*n = j - i;
+	return *n ? &cs->g[i] : NULL;
+}
+
+/* policy_short - a scheduling policy as in "FIFO/99" */
+static const char *policy_short(__u32 policy)
+{
+	static const char *const names[] = { "OTHER", "FIFO", "RR", "BATCH", "ISO", "IDLE",
+					     "DL" };
+
+	return policy < sizeof(names) / sizeof(names[0]) ? names[policy] : "?";
+}
+
+/* who_text - "noise-hog[812] FIFO/99", "the idle task" */
+static void who_text(char *buf, size_t len, const struct rtsup_who *w, __u32 self)
+{
+	if (!w->tid)
+		snprintf(buf, len, "the idle task");
+	else
+		snprintf(buf, len, "%.15s[%u] %s/%d%s", w->comm, w->tid, policy_short(w->policy),
+			 w->prio, self && w->tgid == self ? " (rtsup-trace itself)" : "");
+}
+
+/* futex_op_name - the futex command of a block (block_op - 1) */
+static const char *futex_op_name(__u32 op)
+{
+	static const char *const names[] = {
+		"FUTEX_WAIT", "FUTEX_WAKE", "FUTEX_FD", "FUTEX_REQUEUE", "FUTEX_CMP_REQUEUE",
+		"FUTEX_WAKE_OP", "FUTEX_LOCK_PI", "FUTEX_UNLOCK_PI", "FUTEX_TRYLOCK_PI",
+		"FUTEX_WAIT_BITSET", "FUTEX_WAKE_BITSET", "FUTEX_WAIT_REQUEUE_PI",
+		"FUTEX_CMP_REQUEUE_PI", "FUTEX_LOCK_PI2",
+	};
+
+	return op < sizeof(names) / sizeof(names[0]) ? names[op] : "futex";
+}
+
+/* causes_block_in - where a block waited: "futex FUTEX_WAIT", "read", "" */
+static void block_in(char *buf, size_t len, const struct rtsup_cause *d)
+{
+	const char *sys = d && d->block_nr ? syscall_name(d->block_nr - 1) : NULL;
+
+	if (d && d->block_op)
+		snprintf(buf, len, " in futex %s", futex_op_name(d->block_op - 1));
+	else if (sys)
+		snprintf(buf, len, " in %s", sys);
+	else
+		buf[0] = '\0';
+}
+
+/* a holder below the target's priority kept the CPU: the kernel could not preempt it */
+#define BELOW	", below its priority: not preemptible (kernel section, softirq, IRQs off)"
+
+void causes_text(char *buf, size_t len, __u32 kind, __u32 flags, __u64 ns,
+		 const struct rtsup_who *who, const struct rtsup_cause *detail, __u32 self)
+{
+	char w[64], in[48];
+	double ms = ns / 1e6;
+
+	who_text(w, sizeof(w), who, self);
+	/* the idle task held the CPU: it was slow to leave its idle state */
+	if (kind == RTSUP_CAUSE_WAIT && !who->tid) {
+		snprintf(buf, len, "woken, then waited %.3f ms for its idle CPU: machine latency "
+			 "(idle exit)", ms);
+		return;
+	}
+	switch (kind) {
+	case RTSUP_CAUSE_TIMER:
+		snprintf(buf, len, "woken %.3f ms after its release: machine / timer latency%s",
+			 ms, flags & RTSUP_CAUSE_F_IDLE ? " (idle CPU: idle exit)" :
+			 " (interrupts, hypervisor or hardware held the CPU)");
+		break;
+	case RTSUP_CAUSE_WAIT:
+		snprintf(buf, len, "woken, then waited %.3f ms for the CPU behind %s%s", ms, w,
+			 flags & RTSUP_CAUSE_F_BELOW ? BELOW : "");
+		break;
+	case RTSUP_CAUSE_PREEMPT:
+		snprintf(buf, len, "preempted for %.3f ms by %s%s", ms, w,
+			 flags & RTSUP_CAUSE_F_BELOW ? BELOW : "");
+		break;
+	case RTSUP_CAUSE_BLOCK:
+		block_in(in, sizeof(in), detail);
+		snprintf(buf, len, "blocked %.3f ms%s%s, woken by %s%s", ms, in,
+			 flags & RTSUP_CAUSE_F_DSTATE ? " (uninterruptible)" : "", w,
+			 flags & RTSUP_CAUSE_F_INVERSION ? ": priority inversion" : "");
+		break;
+	case RTSUP_CAUSE_BACKLOG:
+		if (who->tid)
+			snprintf(buf, len, "released %.3f ms late: the cycle before ended late "
+				 "(behind %s)", ms, w);
+		else
+			snprintf(buf, len, "released %.3f ms late: the cycle before ended late",
+				 ms);
+		break;
+	case RTSUP_CAUSE_EXEC:
+		snprintf(buf, len, "its own CPU time, %.3f ms", ms);
+		break;
+	default:
+		snprintf(buf, len, "no cause measured");
+	}
+}
+
+/* causes_brief - one group in a few words, for a verdict message */
+static void causes_brief(char *buf, size_t len, const struct cause_group *g)
+{
+	char w[64];
+
+	if (g->who.tid) {
+		who_text(w, sizeof(w), &g->who, 0);
+		snprintf(buf, len, "%llu caused by %s (%s, %.1f ms max)",
+			 (unsigned long long)g->count, w, cause_kind_name(g->kind), g->max_ns / 1e6);
+	} else {
+		snprintf(buf, len, "%llu caused by %s (%.1f ms max)", (unsigned long long)g->count,
+			 g->kind == RTSUP_CAUSE_TIMER ? "machine / timer latency" :
+			 g->kind == RTSUP_CAUSE_WAIT ? "machine latency (idle exit)" :
+			 g->kind == RTSUP_CAUSE_EXEC ? "its own CPU time" :
+			 g->kind == RTSUP_CAUSE_BACKLOG ? "the late cycle before" : "nothing measured",
+			 g->max_ns / 1e6);
+	}
+}
+
+/*
+ * top_culprit - a thread's leading cause: its longest group but a backlog
+ * (the consequence of another), with the misses of every group of the same
+ * culprit (a hog's waits and the backlogs after them) counted in
+ */
+static void top_culprit(char *buf, size_t len, const struct cause_group *g, size_t n)
+{
+	struct cause_group top;
+	size_t i, lead = 0;
+
+	for (i = 1; i < n; i++)
+		if (g[lead].kind == RTSUP_CAUSE_BACKLOG && g[i].kind != RTSUP_CAUSE_BACKLOG)
+			lead = i;
+	top = g[lead];
+	for (i = 0; i < n; i++)
+		if (i != lead && g[i].who.tid && g[i].who.tid == top.who.tid)
+			top.count += g[i].count;
+	causes_brief(buf, len, &top);
+}
+
+void causes_to_model(const struct causes *win, const struct causes *life, struct model *m)
+{
+	const struct cause_group *g;
+	size_t n;
+	int i;
+
+	for (i = 0; i < m->n; i++) {
+		struct thread_model *tm = &m->t[i];
+
+		tm->why_win[0] = tm->why_life[0] = '\0';
+		if ((g = causes_of(win, tm->tid, &n)))
+			top_culprit(tm->why_win, sizeof(tm->why_win), g, n);
+		if ((g = causes_of(life, tm->tid, &n)))
+			top_culprit(tm->why_life, sizeof(tm->why_life), g, n);
+	}
+}
+
+void causes_clear(struct causes *cs)
+{
+	cs->n = 0;
+	cs->dropped = 0;
+}
+
+void causes_free(struct causes *cs)
+{
+	free(cs->g);
+	memset(cs, 0, sizeof(*cs));
+}
