@@ -182,7 +182,7 @@ integration: all
 test-noisy: all
 	$(Q)RTSUP_TEST_NOISE="-b 3ms -e 30ms" $(PYTHON) -m pytest -v -rs tests/integration \
 		--ignore=tests/integration/test_guest.py --ignore=tests/integration/test_can.py \
-		--ignore=tests/integration/test_cansim.py \
+		--ignore=tests/integration/test_cansim.py --ignore=tests/integration/test_guest_arm64.py \
 		-k "not test_service_under_systemd_in_vm"
 
 # What CI runs: every test: unit, fuzz regressions, sanitizers, integration
