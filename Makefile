@@ -9,8 +9,22 @@ BPFTOOL  ?= bpftool
 IDLC     ?= idlc
 # the apt-installed interpreter: its pytest and matplotlib come from install-deps
 PYTHON   ?= /usr/bin/python3
-ARCH     := $(shell uname -m | sed 's/x86_64/x86/;s/aarch64/arm64/;s/ppc64le/powerpc/;s/riscv64/riscv/;s/s390x/s390/')
+HOST_ARCH := $(shell uname -m | sed 's/x86_64/x86/;s/aarch64/arm64/;s/ppc64le/powerpc/;s/riscv64/riscv/;s/s390x/s390/')
+# the target: make ARCH=arm64 cross-builds into build-arm64/ (cross.mk)
+ARCH     := $(HOST_ARCH)
+HOSTCC   ?= cc
 VMLINUX_BTF ?= /sys/kernel/btf/vmlinux
+VMLINUX_PIN ?= bpf/vmlinux.h.xz
+# gen-syscalls' argument for syscall_table.h: none, the C library's own
+SYSCALL_ARCH ?=
+# a command that runs the unit tests' binaries (qemu-user when cross-built)
+UNIT_RUN ?=
+# the 32-bit ABI test program (gcc-multilib): x86 only
+PROGS32  := $(OUT)/progs32/abi32_loop
+
+ifneq ($(ARCH),$(HOST_ARCH))
+include cross.mk
+endif
 PREFIX   ?= /usr/local
 SYSCONFDIR ?= /etc
 UNITDIR  ?= $(PREFIX)/lib/systemd/system
@@ -38,13 +52,13 @@ UNIT_SRCS := $(wildcard tests/unit/*/test_*.c)
 UNIT_BINS := $(patsubst %.c,$(OUT)/tests/%,$(notdir $(UNIT_SRCS)))
 
 .PHONY: all clean test unit integration test-noisy deps demo bench format-check install soak \
-	fuzz fuzz-build fuzz-regress sanitize ros2-venv deb
+	fuzz fuzz-build fuzz-regress sanitize ros2-venv deb deps-arm64 cross-arm64
 .DELETE_ON_ERROR:
 # keep the BPF objects: the skeleton and the benchmark use them
 .SECONDARY:
 
 all: $(OUT)/rtsup-trace $(OUT)/rtsup-loadgen $(OUT)/rtsup-cansim $(OUT)/rtsup-noise \
-     $(OUT)/progs/usleep_loop $(OUT)/progs/timerfd_loop $(OUT)/progs32/abi32_loop \
+     $(OUT)/progs/usleep_loop $(OUT)/progs/timerfd_loop $(PROGS32) \
      $(OUT)/progs/where_loop_fp $(OUT)/progs/where_loop_dwarf $(OUT)/progs/where_loop_lib \
      $(OUT)/progs/where_cpp \
      $(OUT)/progs/why_late
@@ -52,13 +66,14 @@ all: $(OUT)/rtsup-trace $(OUT)/rtsup-loadgen $(OUT)/rtsup-cansim $(OUT)/rtsup-no
 $(OUT) $(OUT)/tests:
 	$(Q)mkdir -p $@
 
-# vmlinux.h from the build host's BTF; bpf/vmlinux.h is a pinned fallback.
+# vmlinux.h from the build host's BTF; $(VMLINUX_PIN) is a pinned fallback
+# (a cross build's only source: scripts/gen-vmlinux-h).
 $(OUT)/vmlinux.h: | $(OUT)
 	$(call msg,GEN,$@)
-	$(Q)if [ -r $(VMLINUX_BTF) ]; then \
+	$(Q)if [ -r "$(VMLINUX_BTF)" ]; then \
 		$(BPFTOOL) btf dump file $(VMLINUX_BTF) format c > $@; \
 	else \
-		xz -dc bpf/vmlinux.h.xz > $@; \
+		xz -dc $(VMLINUX_PIN) > $@; \
 	fi
 
 $(OUT)/%.bpf.o: bpf/%.bpf.c $(OUT)/vmlinux.h | $(OUT)
@@ -76,15 +91,18 @@ $(OUT)/%.skel.h: $(OUT)/%.bpf.o
 	$(call msg,GEN-SKEL,$@)
 	$(Q)$(BPFTOOL) gen skeleton $< name $(subst -,_,$*)_bpf > $@
 
-# Syscall names of the build architecture, from the C library's headers.
+# Syscall names of the build architecture, from the C library's headers
+# (a cross build: the target's, from gen-syscalls $(SYSCALL_ARCH)).
 $(OUT)/syscall_table.h: scripts/gen-syscalls | $(OUT)
 	$(call msg,GEN,$@)
-	$(Q)CC="$(CC)" scripts/gen-syscalls > $@
+	$(Q)CC="$(if $(SYSCALL_ARCH),$(HOSTCC),$(CC))" TABLE=syscall_table \
+		scripts/gen-syscalls $(SYSCALL_ARCH) > $@
 
-# Each architecture's table, for the unit test that checks them.
+# Each architecture's table, for the unit test that checks them (the
+# kernel's uapi headers of the build host: not a cross compiler's paths).
 $(OUT)/syscall_table_%.h: scripts/gen-syscalls | $(OUT)
 	$(call msg,GEN,$@)
-	$(Q)CC="$(CC)" scripts/gen-syscalls $* > $@
+	$(Q)CC="$(HOSTCC)" scripts/gen-syscalls $* > $@
 
 $(OUT)/tests/test_syscall_tables: $(OUT)/syscall_table_x86_64.h $(OUT)/syscall_table_i386.h \
 	$(OUT)/syscall_table_arm64.h
@@ -210,7 +228,7 @@ $(OUT)/tests/%: $$(wildcard tests/unit/*/$$*.c) $$(UNIT_DEPS_$$*) $(OUT)/syscall
 
 # every binary runs even when one fails; make fails at the end
 unit: $(UNIT_BINS)
-	$(Q)fail=0; for t in $(UNIT_BINS); do $$t || fail=1; done; exit $$fail
+	$(Q)fail=0; for t in $(UNIT_BINS); do $(UNIT_RUN) $$t || fail=1; done; exit $$fail
 
 # the ROS 2 test's subscriber comes from PyPI into build/venv (made once);
 # without it test_ros2.py skips, or fails with CI=true
@@ -227,10 +245,17 @@ test-noisy: all
 	$(Q)RTSUP_TEST_NOISE="-b 3ms -e 30ms" $(PYTHON) -m pytest -v -rs tests/integration \
 		--ignore=tests/integration/test_guest.py --ignore=tests/integration/test_can.py \
 		--ignore=tests/integration/test_cansim.py --ignore=tests/integration/test_deb.py \
+		--ignore=tests/integration/test_guest_arm64.py \
 		-k "not test_service_under_systemd_in_vm"
 
-# What CI runs: every test: unit, fuzz regressions, sanitizers, integration.
-test: unit fuzz-regress sanitize integration
+# What CI runs: every test: unit, fuzz regressions, sanitizers, integration
+# (with the arm64 guest's, tests/integration/test_guest_arm64.py).
+test: unit cross-arm64 fuzz-regress sanitize integration
+
+# arm64: everything cross-built into build-arm64/, its unit tests under
+# qemu-user (cross.mk, docs/arm64.md)
+cross-arm64:
+	$(Q)$(MAKE) --no-print-directory ARCH=arm64 all unit
 
 # Fuzz targets (tests/fuzz, docs/reliability.md): libFuzzer with ASan and
 # UBSan, every userspace module but main.c linked into each target.
@@ -318,6 +343,9 @@ demo: all
 
 deps:
 	$(Q)scripts/install-deps
+
+deps-arm64:
+	$(Q)scripts/install-deps-arm64
 
 # Overhead against the floor and peer tools; installs the peers first (not in make deps).
 bench: all $(OUT)/rtsup_empty.bpf.o

@@ -916,8 +916,11 @@ static void map_pf_region(long pages)
 			 MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
 	if (pf_region == MAP_FAILED)
 		die("mmap", "page-fault region: %s", strerror(errno));
-	/* one touched page must be exactly one fault: no THP, no mTHP */
-	if (madvise(pf_region, pages * page_size, MADV_NOHUGEPAGE))
+	/*
+	 * one touched page must be exactly one fault: no THP, no mTHP. EINVAL:
+	 * a kernel without THP (Debian's arm64 PREEMPT_RT), where it is so anyway
+	 */
+	if (madvise(pf_region, pages * page_size, MADV_NOHUGEPAGE) && errno != EINVAL)
 		die("madvise", "MADV_NOHUGEPAGE: %s", strerror(errno));
 	for (p = pf_region, i = 0; i < cfg.threads; i++) {
 		workers[i].pf_next = p;

@@ -192,8 +192,14 @@ class Loadgen:
                     return json.loads(self.summary_path.read_text())
                 except json.JSONDecodeError:
                     pass  # being written
-            if self.proc.poll() is not None and not self.summary_path.exists():
-                raise AssertionError("rtsup-loadgen failed: " + self.proc.stderr.read())
+            if self.proc.poll() is not None:
+                # it exited: the summary is whole now or never will be (a
+                # failure after its fopen leaves it empty: the madvise EINVAL
+                # of a kernel without THP waited out the whole timeout so)
+                try:
+                    return json.loads(self.summary_path.read_text())
+                except (OSError, json.JSONDecodeError):
+                    raise AssertionError("rtsup-loadgen failed: " + self.proc.stderr.read())
             time.sleep(0.05)
         raise AssertionError("rtsup-loadgen wrote no summary in time")
 

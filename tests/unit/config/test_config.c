@@ -1014,7 +1014,7 @@ BAD(syscall_newline, "bad-syscall-newline.yaml",
 BAD(cycle_syscall, "bad-cycle-syscall.yaml",
     "2:37: unknown syscall 'sleep_forever' in cycle_syscalls")
 BAD(too_many_delims, "bad-too-many-delims.yaml",
-    "2:97: too many syscalls in cycle_syscalls (at most 8)")
+    "2:98: too many syscalls in cycle_syscalls (at most 8)")
 BAD(too_many_allow, "bad-too-many-allow.yaml",
     "2:85: too many syscalls in allow_syscalls (at most 8)")
 BAD(empty_delims, "bad-empty-delims.yaml", "2:19: cycle_syscalls must not be empty")

@@ -12,6 +12,7 @@
 #include "syscall_table_x86_64.h"
 #include "syscall_table_i386.h"
 #include "syscall_table_arm64.h"
+#include "syscall_table.h"
 
 #define NR_OF(table, name) nr_of(table, sizeof(table) / sizeof(table[0]), name)
 
@@ -56,12 +57,38 @@ static void test_syscall_tables_i386(void **state)
 	assert_int_equal(NR_OF(syscall_table_i386, "clock_nanosleep_time64"), 407);
 }
 
+/*
+ * The build's own table (syscall_table.h, what rtsup-trace classifies
+ * with) is the target's: a cross build (make ARCH=arm64) must not take
+ * the build host's numbers. Compared entry by entry, both ways.
+ */
+static void test_syscall_tables_build_is_target(void **state)
+{
+#if defined(__aarch64__)
+#define TARGET syscall_table_arm64
+#elif defined(__x86_64__)
+#define TARGET syscall_table_x86_64
+#endif
+#ifdef TARGET
+	size_t i, n = sizeof(syscall_table) / sizeof(syscall_table[0]);
+
+	for (i = 0; i < n; i++)
+		assert_int_equal(NR_OF(TARGET, syscall_table[i].name), syscall_table[i].nr);
+	for (i = 0; i < sizeof(TARGET) / sizeof(TARGET[0]); i++)
+		assert_int_equal(NR_OF(syscall_table, TARGET[i].name), TARGET[i].nr);
+	assert_int_equal(NR_OF(syscall_table, "mmap"), NR_OF(TARGET, "mmap"));
+#else
+	skip();
+#endif
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_syscall_tables_arm64_aliases),
 		cmocka_unit_test(test_syscall_tables_x86_64),
 		cmocka_unit_test(test_syscall_tables_i386),
+		cmocka_unit_test(test_syscall_tables_build_is_target),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);
