@@ -134,6 +134,7 @@ UNIT_DEPS_test_perfetto := user/sinks/perfetto.c user/sinks/jsonstr.c user/sinks
 UNIT_LIBS_test_perfetto := -ljansson
 UNIT_DEPS_test_checks := user/judge/checks.c user/model/model.c user/judge/status.c
 UNIT_DEPS_test_status := user/judge/status.c
+UNIT_DEPS_test_health := user/judge/health.c
 UNIT_DEPS_test_actionspec := user/config/actionspec.c user/judge/status.c
 UNIT_DEPS_test_actions := user/robot/actions.c user/config/actionspec.c user/judge/status.c user/config/config.c user/model/syscalls.c
 UNIT_LIBS_test_actions := -ljansson -lyaml

@@ -135,6 +135,8 @@ static void on_mark(struct replay *r, const struct rec_interval *ri, bool end)
 	self.lost_events = ri->counters[RTSUP_C_RB_DROPS] + ri->counters[RTSUP_C_CYC_DROPS] -
 			   c->counters[RTSUP_C_RB_DROPS] - c->counters[RTSUP_C_CYC_DROPS];
 	memcpy(c->counters, ri->counters, sizeof(c->counters));
+	/* the recorded counters; map fills were not recorded (capacity 0: unknown) */
+	health_counters(&r->s->health, ri->counters);
 	for (i = 0; r->pf && i < c->model.n; i++)
 		perfetto_name(r->pf, &r->named, &r->nnamed, &r->cap, c->model.t[i].tgid,
 			      c->model.t[i].tid, c->model.t[i].comm, c->model.t[i].pcomm);
@@ -145,6 +147,7 @@ static void on_mark(struct replay *r, const struct rec_interval *ri, bool end)
 		model_views(&c->model.t[i], &c->model.t[i].cur, c->model.t[i].snap, c->bank);
 	supervise_interval(r->s, &c->model, c->bank, &self, ri->mono_ns);
 	eventlog_finish(&c->events);
+	r->s->health.events_not_kept += c->events.dropped;
 	/* like a live run: the last, partial interval, then the summary */
 	progress_end(&r->pg);
 	output_interval(c, r->s, (ri->mono_ns - r->start) / 1e9, (ri->mono_ns - r->last) / 1e9);
