@@ -233,13 +233,13 @@ int replay_run(const struct options *o, struct supervisor *s)
 		}
 	}
 	progress_end(&r.pg);
-	if (n < 0) {
-		output_error(o, err);
-		goto out;
-	}
-	if (!r.ended) {
+	if (!r.ended && n >= 0)
 		snprintf(err, sizeof(err), "%s: the trace ends without its end record "
 			 "(the recording was cut short)", o->replay_path);
+	if (!r.ended) {
+		/* a damaged or cut trace: what its whole intervals said is not lost */
+		if (r.epoch)
+			output_summary(&r.c, s, (r.last - r.start) / 1e9);
 		output_error(o, err);
 		goto out;
 	}
