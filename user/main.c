@@ -404,6 +404,7 @@ out:
 	collector_free(&c);
 	loader_stop(&l);
 out_child:
+	robot_stop(&rb);	/* the exporters opened before loading */
 	if (go_fd >= 0)
 		close(go_fd);	/* the command sees EOF and does not run */
 	if (child > 0 && !child_done)
