@@ -49,6 +49,20 @@ static void update_clocks(struct collector *c)
 	c->real_off = c->skel->bss->clock_off[CLOCK_REALTIME];
 }
 
+/*
+ * poll_over - a flood of events (a thread in an mmap loop) would keep
+ * ring_buffer__poll consuming for as long as it lasts, and the interval
+ * late: past the poll's time, a negative return stops it after this
+ * record. What is left waits for the next poll; what the kernel cannot
+ * write meanwhile is counted as lost. The clock is read once in 64 records.
+ */
+static int poll_over(struct collector *c)
+{
+	if (++c->polled % 64 || mono_now() < c->poll_until)
+		return 0;
+	return -EAGAIN;
+}
+
 /* on_event - ring buffer callback: keep the event for the sinks */
 static int on_event(void *ctx, void *data, size_t len)
 {
@@ -59,7 +73,7 @@ static int on_event(void *ctx, void *data, size_t len)
 	if (c->on_rare)
 		c->on_rare(c->sink_ctx, data);
 	collector_take_event(c, data);
-	return 0;
+	return poll_over(c);
 }
 
 void collector_take_event(struct collector *c, const struct rtsup_event *e)
@@ -79,7 +93,7 @@ static int on_cycle_rec(void *ctx, void *data, size_t len)
 
 	if (len >= sizeof(struct rtsup_cycle_rec) && c->on_cycle)
 		c->on_cycle(c->sink_ctx, data);
-	return 0;
+	return poll_over(c);
 }
 
 /* add_initial - a thread found by the start-up scan goes into the maps */
@@ -151,9 +165,12 @@ int collector_scan(struct collector *c, const struct targets *t)
 
 int collector_poll(struct collector *c, int ms)
 {
-	int err = ring_buffer__poll(c->rb, ms);
+	int err;
 
-	return err == -EINTR ? 0 : err;
+	c->poll_until = mono_now() + (__u64)(ms > COLLECTOR_POLL_MIN_MS ? ms : COLLECTOR_POLL_MIN_MS)
+			* 1000000;
+	err = ring_buffer__poll(c->rb, ms);
+	return err == -EINTR || err == -EAGAIN ? 0 : err;
 }
 
 /* read_counters - sum the per-CPU counters of the kernel side */
