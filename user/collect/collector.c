@@ -427,6 +427,7 @@ int collector_sample(struct collector *c)
 	err = read_threads(c);
 	if (err)
 		fprintf(stderr, "rtsup-trace: reading the thread map: %s\n", strerror(-err));
+	model_sort(&c->model);	/* the reports list threads by tid */
 	/* an entry not read is a dead thread only if the whole map was read */
 	for (i = 0; i < c->model.n; i++)
 		if (!c->model.t[i].seen && thread_dead(!err, false, false))
@@ -436,15 +437,28 @@ int collector_sample(struct collector *c)
 	return err;
 }
 
-/* forget_sys - drop a dead thread's unsafe syscall entries */
-static void forget_sys(struct collector *c, __u32 tid)
+static int cmp_tid(const void *a, const void *b)
+{
+	__u32 x = *(const __u32 *)a, y = *(const __u32 *)b;
+
+	return x < y ? -1 : x > y;
+}
+
+/*
+ * forget_sys - drop the unsafe syscall entries of the dead threads tids[n]
+ * (sorted) in one pass over the map: a pass per thread cost a storm of
+ * 4096 dead threads 4096 walks of the whole map, seconds per interval
+ */
+static void forget_sys(struct collector *c, const __u32 *tids, int n)
 {
 	int fd = bpf_map__fd(c->skel->maps.unsafe_sys);
 	struct rtsup_sys_key key, next, *prev = NULL;
 
+	if (!n)
+		return;
 	while (!bpf_map_get_next_key(fd, prev, &next)) {
 		key = next;
-		if (key.tid == tid) {
+		if (bsearch(&key.tid, tids, n, sizeof(*tids), cmp_tid)) {
 			bpf_map_delete_elem(fd, &key);
 			continue;	/* restart after the deleted key */
 		}
@@ -481,7 +495,8 @@ void collector_reap(struct collector *c)
 {
 	int fd = bpf_map__fd(c->skel->maps.threads), tfd = bpf_map__fd(c->skel->maps.tgids);
 	__u32 key, next, *prev = NULL;
-	int i, j;
+	__u32 *dead = malloc((c->model.n ? c->model.n : 1) * sizeof(*dead));
+	int i, j, ndead = 0;
 
 	for (i = 0; i < c->model.n; i++) {
 		struct thread_model *tm = &c->model.t[i];
@@ -496,8 +511,15 @@ void collector_reap(struct collector *c)
 			continue;	/* a new thread has the tid already (add_thread) */
 		bpf_map_delete_elem(fd, &tm->tid);
 		bpf_map_delete_elem(bpf_map__fd(c->skel->maps.thread_cfg), &tm->tid);
-		forget_sys(c, tm->tid);
+		if (dead)
+			dead[ndead++] = tm->tid;
+		else
+			forget_sys(c, &tm->tid, 1);	/* no memory: one pass each */
 	}
+	if (dead)
+		qsort(dead, ndead, sizeof(*dead), cmp_tid);
+	forget_sys(c, dead, ndead);
+	free(dead);
 	model_prune_dead(&c->model, MODEL_KEEP_DEAD);
 	forget_untracked(c);
 	/* processes that are gone must not match a reused pid */

@@ -132,6 +132,7 @@ static void on_mark(struct replay *r, const struct rec_interval *ri, bool end)
 	};
 	int i;
 
+	model_sort(&c->model);	/* the reports list threads by tid */
 	self.lost_events = ri->counters[RTSUP_C_RB_DROPS] + ri->counters[RTSUP_C_CYC_DROPS] -
 			   c->counters[RTSUP_C_RB_DROPS] - c->counters[RTSUP_C_CYC_DROPS];
 	memcpy(c->counters, ri->counters, sizeof(c->counters));
