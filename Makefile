@@ -43,7 +43,8 @@ UNIT_BINS := $(patsubst %.c,$(OUT)/tests/%,$(notdir $(UNIT_SRCS)))
 .SECONDARY:
 
 all: $(OUT)/rtsup-trace $(OUT)/rtsup-loadgen $(OUT)/rtsup-cansim $(OUT)/rtsup-noise \
-     $(OUT)/progs/usleep_loop $(OUT)/progs/timerfd_loop $(OUT)/progs32/abi32_loop
+     $(OUT)/progs/usleep_loop $(OUT)/progs/timerfd_loop $(OUT)/progs32/abi32_loop \
+     $(OUT)/progs/unsafe_flood $(OUT)/progs/thread_storm
 
 $(OUT) $(OUT)/tests:
 	$(Q)mkdir -p $@
