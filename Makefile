@@ -44,7 +44,7 @@ UNIT_BINS := $(patsubst %.c,$(OUT)/tests/%,$(notdir $(UNIT_SRCS)))
 
 all: $(OUT)/rtsup-trace $(OUT)/rtsup-loadgen $(OUT)/rtsup-cansim $(OUT)/rtsup-noise \
      $(OUT)/progs/usleep_loop $(OUT)/progs/timerfd_loop $(OUT)/progs32/abi32_loop \
-     $(OUT)/progs/unsafe_flood $(OUT)/progs/thread_storm
+     $(OUT)/progs/unsafe_flood $(OUT)/progs/thread_storm $(OUT)/progs/realtime_loop
 
 $(OUT) $(OUT)/tests:
 	$(Q)mkdir -p $@
