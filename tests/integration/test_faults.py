@@ -17,8 +17,8 @@ from pathlib import Path
 
 import pytest
 
-from conftest import (BUILD, CLEAN_DEFAULTS, EMULATED, LOADGEN, PERIOD_US, TRACE, Loadgen,
-                      Trace, threads_by_tid, unique_prefix)
+from conftest import (BUILD, CLEAN_DEFAULTS, LOADGEN, PERIOD_US, TRACE, Loadgen, Trace,
+                      threads_by_tid, unique_prefix)
 
 pytestmark = pytest.mark.usefixtures("bpf")
 
