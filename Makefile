@@ -287,4 +287,5 @@ soak: all
 clean:
 	$(Q)rm -rf $(OUT) $(SAN_OUT)
 
--include $(wildcard $(OUT)/*.d $(OUT)/user/*.d $(OUT)/user/*/*.d $(OUT)/tests/*.d)
+-include $(wildcard $(OUT)/*.d $(OUT)/user/*.d $(OUT)/user/*/*.d $(OUT)/tests/*.d \
+	$(OUT)/fuzz/*.d $(OUT)/fuzz/user/*.d $(OUT)/fuzz/user/*/*.d)
