@@ -165,10 +165,9 @@ int collector_scan(struct collector *c, const struct targets *t)
 
 int collector_poll(struct collector *c, int ms)
 {
-	int err;
+	int err, budget = ms > COLLECTOR_POLL_MIN_MS ? ms : COLLECTOR_POLL_MIN_MS;
 
-	c->poll_until = mono_now() + (__u64)(ms > COLLECTOR_POLL_MIN_MS ? ms : COLLECTOR_POLL_MIN_MS)
-			* 1000000;
+	c->poll_until = mono_now() + (__u64)budget * 1000000;
 	err = ring_buffer__poll(c->rb, ms);
 	return err == -EINTR || err == -EAGAIN ? 0 : err;
 }
