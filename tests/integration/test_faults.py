@@ -221,6 +221,26 @@ def test_thread_storm(tmp_path):
     assert h["ok"] == (h["untracked_threads"] == 0 and h["lost_events"] == 0), h
 
 
+def test_comm_leader_rename_brings_its_threads(tmp_path):
+    """A process whose leader names itself (prctl) like a --comm target
+    after the tool started: the start-up scan would take such a process
+    whole, so the kernel side does too, and every thread it then creates is
+    followed (before the fix: only the leader)."""
+    name = "rn-" + unique_prefix()
+    out = tmp_path / "storm.json"
+    tr = Trace(["--comm", name, "--no-overhead"])
+    storm = subprocess.run([str(PROGS / "thread_storm"), name, "1000", "1", str(out)],
+                           timeout=60)
+    time.sleep(0.3)
+    _, summary, _ = tr.stop()
+    assert storm.returncode == 0
+    made = json.loads(out.read_text())["created"]
+    ours = [t for t in summary["threads"] if t["comm"] == name]
+    # the leader and every thread it made (at most MODEL_KEEP_DEAD dead kept)
+    assert len(ours) == made + 1 <= 1024, (len(ours), made, summary["health"],
+                                           sorted(set(t["comm"] for t in summary["threads"])))
+
+
 def test_max_threads_reached(tmp_path):
     """--max-threads 4 and 8 target threads: 4 tracked with exact counts, the
     other 4 counted once each, the map shown full."""
