@@ -61,7 +61,8 @@ all: $(OUT)/rtsup-trace $(OUT)/rtsup-loadgen $(OUT)/rtsup-cansim $(OUT)/rtsup-no
      $(OUT)/progs/usleep_loop $(OUT)/progs/timerfd_loop $(PROGS32) \
      $(OUT)/progs/where_loop_fp $(OUT)/progs/where_loop_dwarf $(OUT)/progs/where_loop_lib \
      $(OUT)/progs/where_cpp \
-     $(OUT)/progs/why_late
+     $(OUT)/progs/why_late \
+     $(OUT)/progs/unsafe_flood $(OUT)/progs/thread_storm $(OUT)/progs/realtime_loop
 
 $(OUT) $(OUT)/tests:
 	$(Q)mkdir -p $@
@@ -200,6 +201,7 @@ UNIT_DEPS_test_perfetto := user/sinks/perfetto.c user/sinks/jsonstr.c user/sinks
 UNIT_LIBS_test_perfetto := -ljansson
 UNIT_DEPS_test_checks := user/judge/checks.c user/model/model.c user/judge/status.c
 UNIT_DEPS_test_status := user/judge/status.c
+UNIT_DEPS_test_health := user/judge/health.c
 UNIT_DEPS_test_actionspec := user/config/actionspec.c user/judge/status.c
 UNIT_DEPS_test_actions := user/robot/actions.c user/config/actionspec.c user/judge/status.c $(CONFIG_SRCS) user/model/syscalls.c
 UNIT_LIBS_test_actions := -ljansson -lyaml
@@ -392,4 +394,5 @@ soak: all
 clean:
 	$(Q)rm -rf $(OUT) $(SAN_OUT)
 
--include $(wildcard $(OUT)/*.d $(OUT)/user/*.d $(OUT)/user/*/*.d $(OUT)/tests/*.d)
+-include $(wildcard $(OUT)/*.d $(OUT)/user/*.d $(OUT)/user/*/*.d $(OUT)/tests/*.d \
+	$(OUT)/fuzz/*.d $(OUT)/fuzz/user/*.d $(OUT)/fuzz/user/*/*.d)

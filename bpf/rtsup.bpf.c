@@ -1181,16 +1181,25 @@ static __always_inline int on_exec(struct task_struct *p)
 	return 0;
 }
 
-/* on_rename - a thread named like a --comm target; keep names current */
+/*
+ * on_rename - a thread named like a --comm target; keep names current. A
+ * leader so named makes its process a target, as the start-up scan takes
+ * a process by its leader's name: the threads it creates are followed.
+ */
 static __always_inline int on_rename(struct task_struct *task, const char *newcomm)
 {
-	__u32 tid = BPF_CORE_READ(task, pid);
+	__u32 tid = BPF_CORE_READ(task, pid), tgid, one = 1;
 	struct rtsup_thread *t = bpf_map_lookup_elem(&threads, &tid);
 	char comm[RTSUP_COMM_LEN];
 
 	if (!t && !cfg_ncomm)
 		return 0;
 	bpf_probe_read_kernel_str(comm, sizeof(comm), newcomm);
+	if (cfg_ncomm && comm_match(comm)) {
+		tgid = BPF_CORE_READ(task, tgid);
+		if (tgid == tid)
+			bpf_map_update_elem(&tgids, &tgid, &one, BPF_ANY);
+	}
 	if (!t && comm_match(comm))
 		t = add_thread(task, bpf_ktime_get_ns());
 	if (t)

@@ -208,6 +208,24 @@ static void self_in(struct self_in *in, const struct collector *c, const struct 
 	in->untracked_threads = c->counters[RTSUP_C_MAP_FULL];
 }
 
+/* take_health - the tool's own health after an interval's verdicts (and actions) */
+static void take_health(struct supervisor *s, const struct collector *c,
+			const struct actions *a)
+{
+	struct health *h = &s->health;
+
+	health_counters(h, c->counters);
+	h->thread_map.entries = c->map_entries;
+	h->thread_map.capacity = c->o->max_threads;
+	if (s->can) {
+		h->can_id_map.entries = s->can->n;
+		h->can_id_map.capacity = c->o->can_max_ids;
+	}
+	h->events_not_kept += c->events.dropped;
+	h->parse_errors = targets_parse_errors();
+	h->actions_dropped = a->skipped_rate + a->skipped_busy;
+}
+
 /* sample_can - the CAN maps into the CAN model, on the thread model's interval */
 static void sample_can(const struct options *o, struct supervisor *s, const struct loader *l,
 		       const struct collector *c)
@@ -345,6 +363,7 @@ static int run_live(struct options *o, struct supervisor *s)
 		self_in(&self, &c, s, overhead_interval(&ov, &l, o, now, false), &last_drops);
 		supervise_interval(s, &c.model, c.bank, &self, now);
 		supervise_can(s, now, (now - last) / 1e9);
+		take_health(s, &c, &act);
 		output_interval(&c, s, (now - start) / 1e9, (now - last) / 1e9);
 		if (s->can)
 			can_model_next(s->can);
@@ -370,6 +389,7 @@ static int run_live(struct options *o, struct supervisor *s)
 	self_in(&self, &c, s, overhead_interval(&ov, &l, o, now, true), &last_drops);
 	supervise_interval(s, &c.model, c.bank, &self, now);
 	supervise_can(s, now, (now - last) / 1e9);
+	take_health(s, &c, &act);
 	/* the last, partial interval: the intervals add up to the summary */
 	output_interval(&c, s, (now - start) / 1e9, (now - last) / 1e9);
 	output_summary(&c, s, (now - start) / 1e9);
@@ -387,6 +407,7 @@ out:
 	collector_free(&c);
 	loader_stop(&l);
 out_child:
+	robot_stop(&rb);	/* the exporters opened before loading */
 	if (go_fd >= 0)
 		close(go_fd);	/* the command sees EOF and does not run */
 	if (child > 0 && !child_done)

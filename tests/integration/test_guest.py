@@ -4,6 +4,7 @@
 loads and measures there too. Emulated time is slow and noisy, so the
 tests run with RTSUP_TEST_EMULATED=1: counts stay exact, timing checks
 are relaxed."""
+import os
 import re
 import subprocess
 
@@ -33,3 +34,25 @@ def test_thread_tests_pass_in_guest(kernel):
     # and the statistics window, which the guest's pinned bpf_stats hide (docs/vm-test.md)
     m = re.search(r"(\d+) skipped", tail)
     assert not m or int(m.group(1)) <= 2, tail
+
+
+def test_fault_rows_in_guest():
+    """The two rows of the fault matrix that change the whole machine (a
+    clock step, a CPU offline): inside the rt-6.1 guest only, which the
+    kernel command line marks (test_faults.py, in_guest)."""
+    kernel = "rt-6.1"
+    r = subprocess.run([str(VM), "kernels"], capture_output=True, text=True)
+    if not any(line.split()[:1] == [kernel] and " boot " in line
+               for line in r.stdout.splitlines()):
+        if IN_CI:
+            pytest.fail("CI=true and the %s VM is not set up" % kernel)
+        pytest.skip("%s VM not set up: scripts/vm-test setup" % kernel)
+    env = dict(os.environ, VM_TEST_APPEND="rtsup_faults_guest")
+    r = subprocess.run([str(VM), "run", "--kernel", kernel, "--timeout", "600", "--",
+                        "env", "CI=true", "RTSUP_TEST_EMULATED=1", "/usr/bin/python3", "-m",
+                        "pytest", "-q", "-p", "no:cacheprovider",
+                        "tests/integration/test_faults.py", "-k", "in_guest"],
+                       capture_output=True, text=True, timeout=800, cwd=ROOT, env=env)
+    tail = "\n".join(r.stdout.splitlines()[-30:])
+    assert r.returncode == 0, tail + r.stderr[-2000:]
+    assert "2 passed" in tail and "skipped" not in tail, tail

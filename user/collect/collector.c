@@ -50,6 +50,20 @@ static void update_clocks(struct collector *c)
 	c->real_off = c->skel->bss->clock_off[CLOCK_REALTIME];
 }
 
+/*
+ * poll_over - a flood of events (a thread in an mmap loop) would keep
+ * ring_buffer__poll consuming for as long as it lasts, and the interval
+ * late: past the poll's time, a negative return stops it after this
+ * record. What is left waits for the next poll; what the kernel cannot
+ * write meanwhile is counted as lost. The clock is read once in 64 records.
+ */
+static int poll_over(struct collector *c)
+{
+	if (++c->polled % 64 || mono_now() < c->poll_until)
+		return 0;
+	return -EAGAIN;
+}
+
 /* on_event - ring buffer callback: keep the event for the sinks */
 static int on_event(void *ctx, void *data, size_t len)
 {
@@ -63,7 +77,7 @@ static int on_event(void *ctx, void *data, size_t len)
 	if (c->unwinder && ((struct rtsup_event *)data)->type == RTSUP_EV_NEW)
 		unwind_note_process(c->unwinder, ((struct rtsup_event *)data)->tgid);
 	collector_take_event(c, data);
-	return 0;
+	return poll_over(c);
 }
 
 /* on_stack_rec - stack ring buffer callback: unwind, symbolize, count */
@@ -155,7 +169,7 @@ static int on_cycle_rec(void *ctx, void *data, size_t len)
 
 	if (len >= sizeof(struct rtsup_cycle_rec) && c->on_cycle)
 		c->on_cycle(c->sink_ctx, data);
-	return 0;
+	return poll_over(c);
 }
 
 /* add_initial - a thread found by the start-up scan goes into the maps */
@@ -229,11 +243,13 @@ int collector_scan(struct collector *c, const struct targets *t)
 
 int collector_poll(struct collector *c, int ms)
 {
-	int err = ring_buffer__poll(c->rb, ms);
+	int err, budget = ms > COLLECTOR_POLL_MIN_MS ? ms : COLLECTOR_POLL_MIN_MS;
 
+	c->poll_until = mono_now() + (__u64)budget * 1000000;
+	err = ring_buffer__poll(c->rb, ms);
 	if (c->stack_rb)
 		ring_buffer__consume(c->stack_rb);
-	return err == -EINTR ? 0 : err;
+	return err == -EINTR || err == -EAGAIN ? 0 : err;
 }
 
 /*
@@ -530,6 +546,7 @@ int collector_sample(struct collector *c)
 	err = read_threads(c);
 	if (err)
 		fprintf(stderr, "rtsup-trace: reading the thread map: %s\n", strerror(-err));
+	model_sort(&c->model);	/* the reports list threads by tid */
 	mark_absent(&c->model, !err);
 	read_unsafe_sys(c);
 	read_counters(c);
@@ -539,15 +556,28 @@ int collector_sample(struct collector *c)
 	return err;
 }
 
-/* forget_sys - drop a dead thread's unsafe syscall entries */
-static void forget_sys(struct collector *c, __u32 tid)
+static int cmp_tid(const void *a, const void *b)
+{
+	__u32 x = *(const __u32 *)a, y = *(const __u32 *)b;
+
+	return x < y ? -1 : x > y;
+}
+
+/*
+ * forget_sys - drop the unsafe syscall entries of the dead threads tids[n]
+ * (sorted) in one pass over the map: a pass per thread cost a storm of
+ * 4096 dead threads 4096 walks of the whole map, seconds per interval
+ */
+static void forget_sys(struct collector *c, const __u32 *tids, int n)
 {
 	int fd = bpf_map__fd(c->skel->maps.unsafe_sys);
 	struct rtsup_sys_key key, next, *prev = NULL;
 
+	if (!n)
+		return;
 	while (!bpf_map_get_next_key(fd, prev, &next)) {
 		key = next;
-		if (key.tid == tid) {
+		if (bsearch(&key.tid, tids, n, sizeof(*tids), cmp_tid)) {
 			bpf_map_delete_elem(fd, &key);
 			continue;	/* restart after the deleted key */
 		}
@@ -584,7 +614,8 @@ void collector_reap(struct collector *c)
 {
 	int fd = bpf_map__fd(c->skel->maps.threads), tfd = bpf_map__fd(c->skel->maps.tgids);
 	__u32 key, next, *prev = NULL;
-	int i, j;
+	__u32 *dead = malloc((c->model.n ? c->model.n : 1) * sizeof(*dead));
+	int i, j, ndead = 0;
 
 	for (i = 0; i < c->model.n; i++) {
 		struct thread_model *tm = &c->model.t[i];
@@ -599,8 +630,15 @@ void collector_reap(struct collector *c)
 			continue;	/* a new thread has the tid already (add_thread) */
 		bpf_map_delete_elem(fd, &tm->tid);
 		bpf_map_delete_elem(bpf_map__fd(c->skel->maps.thread_cfg), &tm->tid);
-		forget_sys(c, tm->tid);
+		if (dead)
+			dead[ndead++] = tm->tid;
+		else
+			forget_sys(c, &tm->tid, 1);	/* no memory: one pass each */
 	}
+	if (dead)
+		qsort(dead, ndead, sizeof(*dead), cmp_tid);
+	forget_sys(c, dead, ndead);
+	free(dead);
 	model_prune_dead(&c->model, MODEL_KEEP_DEAD);
 	forget_untracked(c);
 	/* processes that are gone must not match a reused pid */

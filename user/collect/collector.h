@@ -21,6 +21,8 @@ struct stack_maps;
 
 /* Thread map entries per read at first: 64 entries of ~5 KiB. */
 #define COLLECTOR_BATCH 64
+/* A poll consumes events for its wait or this long, whichever is longer (poll_over). */
+#define COLLECTOR_POLL_MIN_MS 10
 
 struct collector {
 	struct rtsup_bpf *skel;
@@ -34,6 +36,8 @@ struct collector {
 	__u64 events_total;		/* every rare event of the run */
 	/* deadline misses by cause (causes.h): the interval's and the run's */
 	struct causes causes_win, causes_life;
+	__u64 poll_until;		/* the running poll stops consuming here (ns) */
+	__u64 polled;			/* records consumed, to read the clock once in 64 */
 	__s64 real_off;			/* CLOCK_REALTIME - CLOCK_MONOTONIC, ns */
 	__u64 start_ns;			/* monotonic start */
 	__u32 map_entries;		/* entries of the thread map at the last sample */
@@ -65,7 +69,7 @@ static inline __u64 lost_records(const __u64 *counters)
 int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct options *o);
 /* collector_scan - add the threads of these targets found now (e.g. a restarted unit) */
 int collector_scan(struct collector *c, const struct targets *t);
-/* collector_poll - wait up to ms for rare events */
+/* collector_poll - wait up to ms for rare events, consume for at most that (or 10 ms) */
 int collector_poll(struct collector *c, int ms);
 /* collector_sample - end an interval: refresh the model from the maps */
 int collector_sample(struct collector *c);

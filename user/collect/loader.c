@@ -200,6 +200,14 @@ int loader_start(struct loader *l, const struct options *o)
 		bpf_map__set_max_entries(s->maps.cycles, 4 << 20);
 
 	err = rtsup_bpf__load(s);
+	if (err == -EPERM) {
+		/* we hold the capabilities (checked above), yet the kernel says no:
+		 * the verifier's log would not help */
+		fprintf(stderr, "rtsup-trace: the kernel refuses BPF: %s (a user namespace, "
+				"kernel lockdown, seccomp or a security module forbids it; run "
+				"as root on the host)\n", strerror(-err));
+		goto fail;
+	}
 	if (err) {
 		fprintf(stderr, "rtsup-trace: loading the BPF programs failed: %s "
 				"(run with -v for the verifier's log)\n", strerror(-err));

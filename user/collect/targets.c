@@ -15,6 +15,14 @@
 #include <unistd.h>
 #include "collect/targets.h"
 
+/* text of /proc or a cgroup that was read but did not parse (targets.h) */
+static __u64 parse_errors;
+
+__u64 targets_parse_errors(void)
+{
+	return parse_errors;
+}
+
 bool targets_any(const struct targets *t)
 {
 	return t->npids || t->ntids || t->ncomms || t->rt || t->cgroup;
@@ -62,8 +70,10 @@ unsigned long stat_flags(const char *line)
 	unsigned long flags;
 
 	/* state ppid pgrp session tty_nr tpgid flags */
-	if (!p || sscanf(p + 1, " %*c %*d %*d %*d %*d %*d %lu", &flags) != 1)
+	if (!p || sscanf(p + 1, " %*c %*d %*d %*d %*d %*d %lu", &flags) != 1) {
+		parse_errors++;
 		return 0;
+	}
 	return flags;
 }
 
@@ -106,11 +116,17 @@ pid_t status_tgid(FILE *f)
 {
 	char line[128];
 	pid_t tgid = -1;
+	bool read = false;
 
-	while (fgets(line, sizeof(line), f))
+	while (fgets(line, sizeof(line), f)) {
+		read = true;
 		if (sscanf(line, "Tgid: %d", &tgid) == 1)
-			break;
-	return tgid;
+			return tgid;
+	}
+	/* nothing read: the thread went away meanwhile, not a parse error */
+	if (read)
+		parse_errors++;
+	return -1;
 }
 
 /* tgid_of - the process a thread belongs to, from /proc/<tid>/status */
@@ -194,10 +210,13 @@ static int scan_thread(void *arg, pid_t tgid, pid_t tid)
 
 int cgroup_threads(FILE *f, int (*fn)(void *, pid_t), void *arg)
 {
-	int tid, err = 0;
+	int tid, n = 0, err = 0;
 
-	while (!err && fscanf(f, "%d", &tid) == 1)
+	while (!err && (n = fscanf(f, "%d", &tid)) == 1)
 		err = fn(arg, tid);
+	/* the rest of the file is skipped: counted, not silent */
+	if (!err && n == 0)
+		parse_errors++;
 	return err;
 }
 

@@ -50,6 +50,8 @@ int comm_read(FILE *f, char *buf, size_t len);
 pid_t status_tgid(FILE *f);
 /* cgroup_threads - fn for each thread id of cgroup.threads until it returns nonzero */
 int cgroup_threads(FILE *f, int (*fn)(void *, pid_t), void *arg);
+/* targets_parse_errors - text the three above and stat_flags skipped, since the start */
+__u64 targets_parse_errors(void);
 /*
  * comm_sanitize - a thread name is any bytes: keep printable ASCII only, so
  * tables stay aligned and JSON stays valid UTF-8

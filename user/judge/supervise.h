@@ -10,6 +10,7 @@
 #include <stdbool.h>
 #include "model/canmodel.h"
 #include "judge/checks.h"
+#include "judge/health.h"
 #include "config/config.h"
 #include "model/model.h"
 #include "judge/status.h"
@@ -51,6 +52,7 @@ struct supervisor {
 	struct can_model *can;		/* the CAN buses, NULL without --can */
 	__u64 now;			/* time of the verdicts being made */
 	double overhead_pct;		/* last sampled BPF overhead, % of a CPU; <0 unknown */
+	struct health health;		/* rtsup-trace's own, for the reports (health.h) */
 	/* where level changes go; stderr by default, the journal under systemd */
 	void (*log)(const char *component, enum level from, enum level to, const char *line);
 	/* every level change, after it is logged; NULL = none */

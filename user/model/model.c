@@ -330,7 +330,7 @@ void model_idle(struct thread_model *tm)
 /* find - binary search in the tid-sorted array */
 static int find(const struct model *m, __u32 tid, int *pos)
 {
-	int lo = 0, hi = m->n;
+	int lo = 0, hi = m->nsorted, i;
 
 	while (lo < hi) {
 		int mid = (lo + hi) / 2;
@@ -344,8 +344,42 @@ static int find(const struct model *m, __u32 tid, int *pos)
 		else
 			hi = mid;
 	}
-	*pos = lo;
+	/* the arrivals since the last sort: at most MODEL_TAIL_MAX */
+	for (i = m->nsorted; i < m->n; i++) {
+		if (m->t[i].tid == tid) {
+			*pos = i;
+			return 1;
+		}
+	}
+	*pos = m->n;
 	return 0;
+}
+
+static int by_tid(const void *a, const void *b)
+{
+	__u32 x = ((const struct thread_model *)a)->tid, y = ((const struct thread_model *)b)->tid;
+
+	return x < y ? -1 : x > y;
+}
+
+void model_sort(struct model *m)
+{
+	/* glibc sorts elements this big through pointers: each moves once */
+	if (m->nsorted < m->n)
+		qsort(m->t, m->n, sizeof(*m->t), by_tid);
+	m->nsorted = m->n;
+}
+
+bool model_sorted(const struct model *m)
+{
+	int i;
+
+	if (m->nsorted < 0 || m->nsorted > m->n)
+		return false;
+	for (i = 1; i < m->nsorted; i++)
+		if (m->t[i - 1].tid >= m->t[i].tid)
+			return false;
+	return true;
 }
 
 struct thread_model *model_get(struct model *m, __u32 tid, bool create)
@@ -356,6 +390,8 @@ struct thread_model *model_get(struct model *m, __u32 tid, bool create)
 		return &m->t[pos];
 	if (!create)
 		return NULL;
+	if (m->n - m->nsorted >= MODEL_TAIL_MAX)
+		model_sort(m);
 	if (m->n == m->cap) {
 		int cap = m->cap ? m->cap * 2 : 64;
 		struct thread_model *t = realloc(m->t, cap * sizeof(*t));
@@ -371,8 +407,10 @@ struct thread_model *model_get(struct model *m, __u32 tid, bool create)
 		 */
 		malloc_trim(0);
 	}
-	memmove(&m->t[pos + 1], &m->t[pos], (m->n - pos) * sizeof(*m->t));
-	m->n++;
+	pos = m->n++;
+	/* after every sorted one: it stays sorted (tids mostly grow) */
+	if (m->nsorted == pos && (!pos || m->t[pos - 1].tid < tid))
+		m->nsorted++;
 	memset(&m->t[pos], 0, sizeof(m->t[pos]));
 	m->t[pos].tid = tid;
 	m->t[pos].policy = -1;
@@ -389,6 +427,8 @@ void model_remove(struct model *m, __u32 tid)
 	free(m->t[pos].life_hist);
 	memmove(&m->t[pos], &m->t[pos + 1], (m->n - pos - 1) * sizeof(*m->t));
 	m->n--;
+	if (pos < m->nsorted)
+		m->nsorted--;
 }
 
 static int cmp_u64(const void *a, const void *b)
@@ -401,7 +441,7 @@ static int cmp_u64(const void *a, const void *b)
 void model_prune_dead(struct model *m, int keep)
 {
 	__u64 *seq, cut;
-	int i, j, dead = 0;
+	int i, j, sorted, dead = 0;
 
 	for (i = 0; i < m->n; i++) {
 		struct thread_model *tm = &m->t[i];
@@ -423,7 +463,7 @@ void model_prune_dead(struct model *m, int keep)
 	qsort(seq, dead, sizeof(*seq), cmp_u64);
 	cut = seq[dead - keep - 1];	/* the newest of the ones to drop */
 	free(seq);
-	for (i = 0, j = 0; i < m->n; i++) {
+	for (i = 0, j = 0, sorted = 0; i < m->n; i++) {
 		if (m->t[i].reported_exit && m->t[i].dead_seq <= cut) {
 			free(m->t[i].snap);
 			free(m->t[i].life_hist);
@@ -432,9 +472,12 @@ void model_prune_dead(struct model *m, int keep)
 		}
 		if (i != j)
 			m->t[j] = m->t[i];
+		/* the order is kept: the sorted part stays sorted, shorter */
+		sorted += i < m->nsorted;
 		j++;
 	}
 	m->n = j;
+	m->nsorted = sorted;
 }
 
 void model_sys_set(struct thread_model *tm, int nr, __u64 total)

@@ -102,12 +102,21 @@ struct thread_model {
 };
 
 struct model {
-	struct thread_model *t;
+	struct thread_model *t;	/* by tid after model_sort (model_sorted) */
 	int n;
 	int cap;
+	int nsorted;			/* t[0..nsorted) by tid, then arrivals in their order */
 	__u64 dead_seq;			/* last order of death handed out */
 	__u64 forgotten;		/* exited threads dropped by model_prune_dead */
 };
+
+/*
+ * New threads wait unsorted after the sorted ones, at most this many: an
+ * insert in the middle moved half the array, ~9 KiB a thread, and a storm
+ * of threads arriving in hash-map order moved gigabytes (a 0.5 s interval
+ * took 10 s at 10 000 threads a second).
+ */
+#define MODEL_TAIL_MAX 256
 
 /* Exited threads kept for the summary; older ones are forgotten (weeks of churn). */
 #define MODEL_KEEP_DEAD 1024
@@ -154,6 +163,14 @@ void model_idle(struct thread_model *tm);
 
 /* model_get - the thread's model, created (zeroed) when 'create' */
 struct thread_model *model_get(struct model *m, __u32 tid, bool create);
+/* model_sort - every thread in tid order, for the outputs (pointers into t change) */
+void model_sort(struct model *m);
+/* model_sorted - the invariant model_sort restores: t[0..nsorted) strictly by tid */
+bool model_sorted(const struct model *m);
+/* model_sort - every thread in tid order, for the outputs (pointers into t change) */
+void model_sort(struct model *m);
+/* model_sorted - the invariant of the sorted part: t[0..nsorted) strictly by tid */
+bool model_sorted(const struct model *m);
 /* model_remove - forget a thread */
 void model_remove(struct model *m, __u32 tid);
 /*

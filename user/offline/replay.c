@@ -180,8 +180,11 @@ static void on_mark(struct replay *r, const struct rec_interval *ri, bool end)
 	};
 	int i;
 
+	model_sort(&c->model);	/* the reports list threads by tid */
 	self.lost_events = lost_records(ri->counters) - lost_records(c->counters);
 	memcpy(c->counters, ri->counters, sizeof(c->counters));
+	/* the recorded counters; map fills were not recorded (capacity 0: unknown) */
+	health_counters(&r->s->health, ri->counters);
 	for (i = 0; r->pf && i < c->model.n; i++)
 		perfetto_name(r->pf, &r->named, &r->nnamed, &r->cap, c->model.t[i].tgid,
 			      c->model.t[i].tid, c->model.t[i].comm, c->model.t[i].pcomm);
@@ -195,6 +198,7 @@ static void on_mark(struct replay *r, const struct rec_interval *ri, bool end)
 	causes_sort(&c->causes_win);
 	causes_sort(&c->causes_life);
 	causes_to_model(&c->causes_win, &c->causes_life, &c->model);
+	r->s->health.events_not_kept += c->events.dropped;
 	/* like a live run: the last, partial interval, then the summary */
 	progress_end(&r->pg);
 	output_interval(c, r->s, (ri->mono_ns - r->start) / 1e9, (ri->mono_ns - r->last) / 1e9);
@@ -288,13 +292,13 @@ int replay_run(const struct options *o, struct supervisor *s)
 		}
 	}
 	progress_end(&r.pg);
-	if (n < 0) {
-		output_error(o, err);
-		goto out;
-	}
-	if (!r.ended) {
+	if (!r.ended && n >= 0)
 		snprintf(err, sizeof(err), "%s: the trace ends without its end record "
 			 "(the recording was cut short)", o->replay_path);
+	if (!r.ended) {
+		/* a damaged or cut trace: what its whole intervals said is not lost */
+		if (r.epoch)
+			output_summary(&r.c, s, (r.last - r.start) / 1e9);
 		output_error(o, err);
 		goto out;
 	}

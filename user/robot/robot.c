@@ -15,7 +15,8 @@ int robot_prepare(struct robot *r, const struct options *o, struct supervisor *s
 		s->log = service_journal_log;
 	if (o->unit)
 		unit_init(&r->unit, o->unit);
-	return 0;
+	/* a taken port fails here, before any BPF is loaded */
+	return promexp_open(&r->pe, o->prom_textfile, o->listen);
 }
 
 /* render - the exposition of now, to the exporters */
@@ -49,8 +50,6 @@ int robot_start(struct robot *r, struct collector *c, const struct supervisor *s
 			fprintf(stderr, "rtsup-trace: --unit %s: not running; waiting for it\n",
 				r->unit.name);
 	}
-	if (promexp_open(&r->pe, r->o->prom_textfile, r->o->listen))
-		return -1;
 	/* read at the start only: a SIGHUP reload does not switch it */
 	if ((r->o->ros2_diag || s->cfg.ros2_diagnostics) && ros2diag_open(&r->diag))
 		return -1;	/* robot_stop closes the exporters */

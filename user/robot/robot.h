@@ -29,9 +29,12 @@ struct robot {
 	bool stopped;
 };
 
-/* robot_prepare - before loading: systemd's settings, --unit; the supervisor's log hook */
+/*
+ * robot_prepare - before loading: systemd's settings, --unit, the exporters
+ * (an empty /metrics until robot_start); the supervisor's log hook
+ */
 int robot_prepare(struct robot *r, const struct options *o, struct supervisor *s);
-/* robot_start - after attach: --unit's cgroup, exporters, /diagnostics, READY=1 */
+/* robot_start - after attach: --unit's cgroup, first metrics, /diagnostics, READY=1 */
 int robot_start(struct robot *r, struct collector *c, const struct supervisor *s);
 /* robot_tick - every pass of the main loop (at least every 100 ms): watchdog */
 void robot_tick(struct robot *r);

@@ -334,14 +334,41 @@ static json_t *json_fold(const struct collector *c, const struct event_fold *f)
 	return o;
 }
 
+/* json_map_fill - one kernel map's entries, capacity and fill; null when unknown */
+static json_t *json_map_fill(const struct health_map *m)
+{
+	if (!m->capacity)
+		return json_null();
+	return json_pack("{s:I,s:I,s:f,s:b}", "entries", (json_int_t)m->entries, "capacity",
+			 (json_int_t)m->capacity, "fill_pct", health_fill_pct(m), "near_full",
+			 health_near_full(m));
+}
+
+/* json_health - rtsup-trace's own health (health.h, docs/json.md) */
+static json_t *json_health(const struct health *h)
+{
+	return json_pack("{s:b,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:o,s:o}", "ok",
+			 !health_problems(h), "lost_events", (json_int_t)h->lost_events,
+			 "lost_cycle_records", (json_int_t)h->lost_cycle_records,
+			 "untracked_threads", (json_int_t)h->untracked_threads,
+			 "untracked_syscall_counts", (json_int_t)h->untracked_syscall_counts,
+			 "can_frames_not_counted", (json_int_t)h->can_frames_not_counted,
+			 "events_not_kept", (json_int_t)h->events_not_kept,
+			 "parse_errors", (json_int_t)h->parse_errors,
+			 "actions_dropped", (json_int_t)h->actions_dropped,
+			 "thread_map", json_map_fill(&h->thread_map),
+			 "can_id_map", json_map_fill(&h->can_id_map));
+}
+
 /* json_common - the fields every report carries */
 static json_t *json_common(const struct collector *c, const struct supervisor *sv,
 			   const char *type, double elapsed)
 {
 	char when[40];
+	json_t *o;
 
 	fmt_time(c, mono_now(), when, sizeof(when));
-	return json_pack("{s:s,s:s,s:f,s:I,s:I,s:I,s:I,s:{s:o,s:s,s:o}}", "type", type, "time", when,
+	o = json_pack("{s:s,s:s,s:f,s:I,s:I,s:I,s:I,s:{s:o,s:s,s:o}}", "type", type, "time", when,
 			 "elapsed_s", elapsed,
 			 "lost_events", (json_int_t)c->counters[RTSUP_C_RB_DROPS],
 			 "lost_cycle_records", (json_int_t)c->counters[RTSUP_C_CYC_DROPS],
@@ -350,6 +377,9 @@ static json_t *json_common(const struct collector *c, const struct supervisor *s
 			 "supervisor", "status", json_status(&sv->self), "worst_level",
 			 level_name(sv->self_worst), "bpf_overhead_pct",
 			 sv->overhead_pct >= 0 ? json_real(sv->overhead_pct) : json_null());
+	if (o)
+		json_object_set_new(o, "health", json_health(&sv->health));
+	return o;
 }
 
 /*
@@ -700,6 +730,34 @@ static void table_causes(const struct causes *cs, const struct thread_model *tm,
 		printf("    ... %zu other causes\n", n - 5);
 }
 
+/* table_map_fill - " thread map 12/1024 (1 %)", nothing when unknown */
+static void table_map_fill(const char *name, const struct health_map *m)
+{
+	if (m->capacity)
+		printf(", %s %u/%u (%.0f %%%s)", name, m->entries, m->capacity,
+		       health_fill_pct(m), health_near_full(m) ? ", near full" : "");
+}
+
+/* table_health - one line of the tool's own health in the summary */
+static void table_health(const struct health *h)
+{
+	printf("health: %s: %llu events lost, %llu cycle records lost, %llu threads not "
+	       "tracked, %llu syscall counts not tracked, %llu events not kept, %llu parse "
+	       "errors skipped, %llu actions dropped",
+	       health_problems(h) ? "DEGRADED" : "ok", (unsigned long long)h->lost_events,
+	       (unsigned long long)h->lost_cycle_records,
+	       (unsigned long long)h->untracked_threads,
+	       (unsigned long long)h->untracked_syscall_counts,
+	       (unsigned long long)h->events_not_kept, (unsigned long long)h->parse_errors,
+	       (unsigned long long)h->actions_dropped);
+	if (h->can_frames_not_counted)
+		printf(", %llu CAN frames not counted by id",
+		       (unsigned long long)h->can_frames_not_counted);
+	table_map_fill("thread map", &h->thread_map);
+	table_map_fill("CAN id map", &h->can_id_map);
+	printf("\n");
+}
+
 static void table_summary(const struct collector *c, const struct supervisor *sv,
 			  double elapsed)
 {
@@ -744,6 +802,7 @@ static void table_summary(const struct collector *c, const struct supervisor *sv
 		stacks_table(stdout, &c->stacks, &c->model, false);
 	if (sv->can)
 		can_table(sv->can, &sv->cfg, sv->now, elapsed, true);
+	table_health(&sv->health);
 	/* every violation, with when and what */
 	printf("verdict: %s", level_name(supervise_worst(sv, &c->model)));
 	printf(" (%d violations%s)\n", sv->nv + (int)sv->v_dropped,

@@ -436,6 +436,16 @@ static void render_self(const struct prom_in *in, struct prom_buf *b)
 	prom_family(b, "rtsup_lost_cycle_records_total", "counter",
 		    "Cycle records the recording buffer had no room for (--record, --perfetto).");
 	prom_sample(b, "rtsup_lost_cycle_records_total", in->counters[RTSUP_C_CYC_DROPS], NULL);
+	/* the rest of the tool's own health (health.h) */
+	prom_family(b, "rtsup_events_not_kept_total", "counter",
+		    "Rare events the interval's list had no memory for.");
+	prom_sample(b, "rtsup_events_not_kept_total", in->s->health.events_not_kept, NULL);
+	prom_family(b, "rtsup_parse_errors_total", "counter",
+		    "/proc and cgroup text that did not parse and was skipped.");
+	prom_sample(b, "rtsup_parse_errors_total", in->s->health.parse_errors, NULL);
+	prom_family(b, "rtsup_actions_dropped_total", "counter",
+		    "Actions not run: the rate limit, or too many commands running.");
+	prom_sample(b, "rtsup_actions_dropped_total", in->s->health.actions_dropped, NULL);
 	prom_family(b, "rtsup_forgotten_threads_total", "counter",
 		    "Exited threads dropped from the model to keep memory bounded.");
 	prom_sample(b, "rtsup_forgotten_threads_total", in->forgotten, NULL);

@@ -169,7 +169,9 @@ int promexp_open(struct promexp *e, const char *textfile, const char *listen)
 	}
 	if (mhd_load(listen))
 		return -1;
-	e->mhd = mhd.start_daemon(MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_ERROR_LOG |
+	/* no MHD_USE_ERROR_LOG: its lines ("Failed to bind...", a client's
+	 * errors) would come next to ours, and a hostile client could fill stderr */
+	e->mhd = mhd.start_daemon(MHD_USE_INTERNAL_POLLING_THREAD |
 				  (ss.ss_family == AF_INET6 ? MHD_USE_IPv6 : 0),
 				  0, NULL, NULL, on_request, e,
 				  MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&ss,

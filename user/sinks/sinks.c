@@ -266,8 +266,8 @@ static int write_states(struct sinks *sk, const struct collector *c, const struc
 	struct rec_thread rt;
 	int i;
 
-	if (!sk->rec || sk->failed)
-		return sk->failed ? -1 : 0;
+	if (!sk->rec)
+		return 0;
 	for (i = 0; i < c->model.n; i++) {
 		const struct thread_model *tm = &c->model.t[i];
 
@@ -293,15 +293,27 @@ static void name_tracks(struct sinks *sk, const struct model *m)
 			      m->t[i].tid, m->t[i].comm, m->t[i].pcomm);
 }
 
+/*
+ * stop_recording - a write failed (disk full, I/O error): the file keeps its
+ * whole records, the supervision goes on without it, the run ends with 1
+ */
+static void stop_recording(struct sinks *sk)
+{
+	char err[sizeof(sk->err)];
+
+	sk->failed = true;
+	fprintf(stderr, "rtsup-trace: --record: %s: recording stopped, supervision goes on\n",
+		sk->err);
+	rec_close(sk->rec, err, sizeof(err));	/* it failed already: said once */
+	sk->rec = NULL;
+}
+
 int sinks_interval(struct sinks *sk, const struct collector *c, const struct self_in *self,
 		   __u64 now)
 {
 	name_tracks(sk, &c->model);
-	if (write_states(sk, c, self, now, REC_INTERVAL)) {
-		sk->failed = true;
-		fprintf(stderr, "rtsup-trace: --record: %s\n", sk->err);
-		return -1;
-	}
+	if (sk->rec && (sk->failed || write_states(sk, c, self, now, REC_INTERVAL)))
+		stop_recording(sk);
 	return 0;
 }
 
@@ -311,14 +323,17 @@ int sinks_close(struct sinks *sk, const struct collector *c, const struct self_i
 	int err = 0;
 
 	name_tracks(sk, &c->model);
-	if (sk->rec) {
-		if (write_states(sk, c, self, now, REC_END) ||
-		    rec_close(sk->rec, sk->err, sizeof(sk->err))) {
+	if (sk->rec && (sk->failed || write_states(sk, c, self, now, REC_END))) {
+		stop_recording(sk);
+	} else if (sk->rec) {
+		if (rec_close(sk->rec, sk->err, sizeof(sk->err))) {
 			fprintf(stderr, "rtsup-trace: --record: %s\n", sk->err);
 			err = -1;
 		}
 		sk->rec = NULL;
 	}
+	if (sk->failed)
+		err = -1;	/* the recording was cut: an error of the run */
 	if (sk->pf) {
 		if (perfetto_close(sk->pf, sk->err, sizeof(sk->err))) {
 			fprintf(stderr, "rtsup-trace: --perfetto: %s\n", sk->err);

@@ -22,7 +22,7 @@ struct sinks {
 	__u32 *named;		/* tids whose Perfetto track has a name, sorted */
 	int nnamed;
 	int cap;
-	bool failed;		/* a write failed: the run ends with that error */
+	bool failed;		/* a write failed: recording stopped, the run ends with 1 */
 	/* --stacks --record: the mapping set written last, per process */
 	struct { __u32 tgid, gen; } *maps_written;
 	int nmaps_written;
@@ -32,10 +32,13 @@ struct sinks {
 /* sinks_open - create the files and hook into the collector; -1 on error */
 int sinks_open(struct sinks *sk, const struct options *o, const struct supervisor *s,
 	       struct collector *c);
-/* sinks_interval - thread states and the interval mark; -1 on a write error */
+/*
+ * sinks_interval - thread states and the interval mark; a write error stops
+ * the recording (one line), never the supervision: 0
+ */
 int sinks_interval(struct sinks *sk, const struct collector *c, const struct self_in *self,
 		   __u64 now);
-/* sinks_close - the final states, the end mark; close the files */
+/* sinks_close - the final states, the end mark; close the files; -1 if any write failed */
 int sinks_close(struct sinks *sk, const struct collector *c, const struct self_in *self,
 		__u64 now);
 

@@ -85,6 +85,43 @@ static void test_thread_is_kernel_here(void **state)
 		assert_true(thread_is_kernel(2, 2));
 }
 
+static int count_tid(void *arg, pid_t tid)
+{
+	(void)tid;
+	(*(int *)arg)++;
+	return 0;
+}
+
+/* /proc text that was read but did not parse is counted; a file gone empty is not */
+static void test_parse_errors_counted(void **state)
+{
+	static char status[] = "Name:\tx\nPid:\t12\n", good[] = "Name:\tx\nTgid:\t7\n", threads[] = "12\n13\nxyz\n14\n";
+	__u64 n0 = targets_parse_errors();
+	int n = 0;
+	FILE *f;
+
+	(void)state;
+	f = fmemopen(good, strlen(good), "r");
+	assert_int_equal(status_tgid(f), 7);
+	fclose(f);
+	assert_int_equal(targets_parse_errors(), n0);
+	f = fopen("/dev/null", "r");	/* what a thread gone meanwhile reads */
+	assert_int_equal(status_tgid(f), -1);
+	fclose(f);
+	assert_int_equal(targets_parse_errors(), n0);
+	f = fmemopen(status, strlen(status), "r");
+	assert_int_equal(status_tgid(f), -1);
+	fclose(f);
+	assert_int_equal(targets_parse_errors(), n0 + 1);
+	assert_int_equal(stat_flags("12 (x) S 1 2 3"), 0);
+	assert_int_equal(targets_parse_errors(), n0 + 2);
+	f = fmemopen(threads, strlen(threads), "r");
+	assert_int_equal(cgroup_threads(f, count_tid, &n), 0);
+	fclose(f);
+	assert_int_equal(n, 2);
+	assert_int_equal(targets_parse_errors(), n0 + 3);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -93,6 +130,7 @@ int main(void)
 		cmocka_unit_test(test_cpu_list_truncated),
 		cmocka_unit_test(test_stat_flags_kthread),
 		cmocka_unit_test(test_thread_is_kernel_here),
+		cmocka_unit_test(test_parse_errors_counted),
 	};
 
 	return cmocka_run_group_tests_name("targets", tests, NULL, NULL);

@@ -551,10 +551,14 @@ static int model_teardown(void **state)
 	return 0;
 }
 
-static void check_sorted(const struct model *m)
+/* check_sorted - the sorted part holds its invariant; after model_sort, all */
+static void check_sorted(struct model *m)
 {
 	int i;
 
+	assert_true(model_sorted(m));
+	assert_true(m->n - m->nsorted <= MODEL_TAIL_MAX);
+	model_sort(m);
 	for (i = 1; i < m->n; i++)
 		if (m->t[i - 1].tid >= m->t[i].tid)
 			fail_msg("not sorted at %d: %u, %u", i, m->t[i - 1].tid,
@@ -631,6 +635,49 @@ static void test_model_remove(void **state)
 	assert_int_equal(m->t[1].tid, 4);
 }
 
+/*
+ * A storm of threads arriving in hash order: each is found at once (sorted
+ * part or tail), the tail never passes MODEL_TAIL_MAX, removal and pruning
+ * from both parts keep the invariant, and model_sort orders them all.
+ */
+static void test_model_tail_storm(void **state)
+{
+	struct model *m = *state;
+	struct thread_model *tm;
+	int i, j;
+
+	for (i = 0; i < 5000; i++) {
+		__u32 tid = 10 + (__u32)(i * 7919 % 5000);	/* a permutation: 7919 is prime */
+
+		tm = model_get(m, tid, true);
+		assert_non_null(tm);
+		assert_int_equal(tm->tid, tid);
+		tm->tgid = tid + 1;
+		assert_true(model_sorted(m));
+		assert_true(m->n - m->nsorted <= MODEL_TAIL_MAX);
+		if (i % 97 == 0)	/* every one so far is still found */
+			for (j = 0; j <= i; j++)
+				assert_non_null(model_get(m, 10 + (__u32)(j * 7919 % 5000),
+							  false));
+	}
+	assert_int_equal(m->n, 5000);
+	assert_true(m->nsorted < m->n);	/* a tail is left to sort */
+	/* remove from the tail and from the sorted part */
+	model_remove(m, m->t[m->n - 1].tid);
+	model_remove(m, m->t[0].tid);
+	assert_true(model_sorted(m));
+	/* prune half of them dead, oldest first */
+	for (i = 0; i < m->n; i += 2)
+		m->t[i].reported_exit = true;
+	model_prune_dead(m, 100);
+	assert_true(model_sorted(m));
+	assert_int_equal(m->n, 4998 - 2499 + 100);
+	for (i = 0; i < m->n; i++)
+		assert_int_equal(m->t[i].tgid, m->t[i].tid + 1);
+	check_sorted(m);
+	assert_int_equal(m->nsorted, m->n);
+}
+
 /* model_sys_set: adds, updates in place (prev kept), bounded table */
 static void test_model_sys_set(void **state)
 {
@@ -697,6 +744,7 @@ int main(void)
 		TS(test_model_life_hist_wrap),
 		M(test_model_get_sorted),
 		M(test_model_remove),
+		M(test_model_tail_storm),
 		M(test_model_sys_set),
 		cmocka_unit_test(test_model_names),
 	};
