@@ -73,6 +73,7 @@ enum {
 	OPT_STACKS,
 	OPT_STACK_SIZE,
 	OPT_STACK_BUDGET,
+	OPT_EVENT_BUFFER,
 };
 
 static const struct argp_option opts[] = {
@@ -121,6 +122,9 @@ static const struct argp_option opts[] = {
 	  "User stack at each RT-unsafe event: off (default), fp (frame pointers) or dwarf", 0 },
 	{ "stack-size", OPT_STACK_SIZE, "BYTES", 0, "With --stacks dwarf: user stack copied per event (default 8K)", 0 },
 	{ "stack-budget", OPT_STACK_BUDGET, "N", 0, "Stacks captured per thread per interval, the rest counted (default 256)", 0 },
+	{ "event-buffer", OPT_EVENT_BUFFER, "BYTES", 0,
+	  "Ring buffer of rare events, a power of two from 64K to 256M (default 2M); "
+	  "what does not fit is counted as lost", 0 },
 	{ "floor", OPT_FLOOR, NULL, OPTION_HIDDEN, "Attach empty programs instead (benchmark)", 0 },
 	{},
 };
@@ -191,6 +195,29 @@ static int stack_size_parse(const char *s, __u32 *out)
 	}
 	if (strict_long(buf, 1, RTSUP_STACK_DUMP_MAX, &v) || v * mul > RTSUP_STACK_DUMP_MAX ||
 	    v * mul < 512 || (v * mul) % 8)
+		return -1;
+	*out = v * mul;
+	return 0;
+}
+
+/* ring_size_parse - "64K", "2M", "4194304": a power of two from 64 KiB to 256 MiB */
+static int ring_size_parse(const char *s, __u32 *out)
+{
+	char buf[16];
+	size_t n = strlen(s);
+	long v, mul = 1;
+
+	if (!n || n >= sizeof(buf))
+		return -1;
+	memcpy(buf, s, n + 1);
+	if (strchr("kK", buf[n - 1]))
+		mul = 1L << 10;
+	else if (strchr("mM", buf[n - 1]))
+		mul = 1L << 20;
+	if (mul > 1)
+		buf[n - 1] = '\0';
+	if (strict_long(buf, 1, 1L << 28, &v) || v * mul < (1L << 16) || v * mul > (1L << 28) ||
+	    (v * mul & (v * mul - 1)))
 		return -1;
 	*out = v * mul;
 	return 0;
@@ -382,6 +409,11 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 		if (stack_size_parse(arg, &o->stack_size))
 			return bad(st, "--stack-size", arg,
 				   "want bytes, a multiple of 8 from 512 to 64K (e.g. 8K)");
+		break;
+	case OPT_EVENT_BUFFER:
+		if (ring_size_parse(arg, &o->event_buffer))
+			return bad(st, "--event-buffer", arg,
+				   "want a power of two from 64K to 256M (e.g. 4M)");
 		break;
 	case OPT_STACK_BUDGET:
 		if (strict_long(arg, 1, 1 << 20, &v))

@@ -55,6 +55,7 @@ struct options {
 	__u32 stacks;		/* --stacks: enum rtsup_stacks */
 	__u32 stack_size;	/* --stack-size: DWARF bytes of user stack per event */
 	__u32 stack_budget;	/* --stack-budget: records per thread per interval */
+	__u32 event_buffer;	/* --event-buffer: bytes of the rare events' ring; 0 = the BPF default */
 	bool floor;		/* --floor (hidden): empty programs on the same hooks, for make bench */
 };
 

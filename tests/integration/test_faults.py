@@ -276,8 +276,11 @@ def test_ring_buffer_overrun(tmp_path):
     cycles and the unsafe syscalls, aggregated in the kernel, stay exact;
     the intervals add up and come on time."""
     out = tmp_path / "flood.json"
-    r = run_cli([str(TRACE), "-j", "-i", "500ms", "--no-overhead", "--",
-                 str(PROGS / "unsafe_flood"), "flood", "1000", "300", str(out)], timeout=120)
+    # the smallest ring (64 KiB, about 170 events): the default 2 MiB ring is
+    # read faster than this flood fills it on an idle machine
+    r = run_cli([str(TRACE), "-j", "-i", "500ms", "--no-overhead", "--event-buffer", "64K",
+                 "--", str(PROGS / "unsafe_flood"), "flood", "1000", "300", str(out)],
+                timeout=120)
     assert r.returncode == 0, r.stderr
     truth = json.loads(out.read_text())
     intervals, summary = reports(r.stdout)
@@ -663,3 +666,14 @@ def test_in_guest_cpu_offline(tmp_path):
         assert got[t["tid"]]["total"]["cycles"] == t["cycles"], (t, got[t["tid"]]["total"])
     moved = got[truth["threads"][1]["tid"]]["total"]["migrations"]
     assert moved >= 1, moved
+
+
+@pytest.mark.parametrize("size", ["32K", "3M", "512M", "64Q", ""])
+def test_bad_event_buffer_one_line(size):
+    """--event-buffer: a power of two from 64K to 256M, else one line and 1."""
+    r = subprocess.run([str(TRACE), "--event-buffer", size, "-p", "1"],
+                       capture_output=True, text=True, timeout=30)
+    assert r.returncode == 1
+    assert r.stderr.splitlines() == [
+        "rtsup-trace: --event-buffer '%s': want a power of two from 64K to 256M (e.g. 4M)"
+        % size], r.stderr

@@ -195,6 +195,8 @@ int loader_start(struct loader *l, const struct options *o)
 	if (o->stacks)
 		bpf_map__set_max_entries(s->maps.stacks, o->stacks == RTSUP_STACKS_DWARF ?
 					 16 << 20 : 1 << 20);
+	if (o->event_buffer)
+		bpf_map__set_max_entries(s->maps.events, o->event_buffer);
 	/* a cycle record per cycle: 4 MiB hold seconds of a busy machine */
 	if (s->rodata->cfg_record)
 		bpf_map__set_max_entries(s->maps.cycles, 4 << 20);
