@@ -21,6 +21,9 @@ SYSCALL_ARCH ?=
 UNIT_RUN ?=
 # the 32-bit ABI test program (gcc-multilib): x86 only
 PROGS32  := $(OUT)/progs32/abi32_loop
+# test_where.py's programs: where_loop.c makes its own syscall in x86 asm
+WHERE_PROGS := $(OUT)/progs/where_loop_fp $(OUT)/progs/where_loop_dwarf \
+	$(OUT)/progs/where_loop_lib $(OUT)/progs/where_cpp
 
 ifneq ($(ARCH),$(HOST_ARCH))
 include cross.mk
@@ -58,9 +61,7 @@ UNIT_BINS := $(patsubst %.c,$(OUT)/tests/%,$(notdir $(UNIT_SRCS)))
 .SECONDARY:
 
 all: $(OUT)/rtsup-trace $(OUT)/rtsup-loadgen $(OUT)/rtsup-cansim $(OUT)/rtsup-noise \
-     $(OUT)/progs/usleep_loop $(OUT)/progs/timerfd_loop $(PROGS32) \
-     $(OUT)/progs/where_loop_fp $(OUT)/progs/where_loop_dwarf $(OUT)/progs/where_loop_lib \
-     $(OUT)/progs/where_cpp \
+     $(OUT)/progs/usleep_loop $(OUT)/progs/timerfd_loop $(PROGS32) $(WHERE_PROGS) \
      $(OUT)/progs/why_late \
      $(OUT)/progs/unsafe_flood $(OUT)/progs/thread_storm $(OUT)/progs/realtime_loop
 

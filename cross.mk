@@ -29,3 +29,6 @@ SYSCALL_ARCH := $(SYSCALLS_$(ARCH))
 UNIT_RUN := $(QEMU_USER_$(ARCH))
 # gcc-multilib's 32-bit x86 program has no arm64 counterpart here
 PROGS32 :=
+# test_where.py runs on x86 only (its program makes its syscall in x86 asm;
+# the page-fault stack hook is x86's exceptions:page_fault_user)
+WHERE_PROGS :=

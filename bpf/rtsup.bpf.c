@@ -417,11 +417,11 @@ static __always_inline int stack_budget_take(__u32 tid)
  */
 static __always_inline __u64 copy_regs(__u64 *out, struct pt_regs *kregs)
 {
+#if defined(__TARGET_ARCH_x86)
 	struct pt_regs r;
 
 	if (bpf_probe_read_kernel(&r, sizeof(r), kregs))
 		return 0;
-#if defined(__TARGET_ARCH_x86)
 	out[0] = r.ax; out[1] = r.dx; out[2] = r.cx; out[3] = r.bx;
 	out[4] = r.si; out[5] = r.di; out[6] = r.bp; out[7] = r.sp;
 	out[8] = r.r8; out[9] = r.r9; out[10] = r.r10; out[11] = r.r11;
@@ -429,13 +429,12 @@ static __always_inline __u64 copy_regs(__u64 *out, struct pt_regs *kregs)
 	out[16] = r.ip;
 	return r.sp;
 #elif defined(__TARGET_ARCH_arm64)
-	__u32 i;
-
-	for (i = 0; i < 31; i++)
-		out[i] = r.regs[i];
-	out[31] = r.sp;
-	out[32] = r.pc;
-	return r.sp;
+	/* straight into the record: arm64's pt_regs would not fit the BPF stack */
+	if (bpf_probe_read_kernel(out, 31 * sizeof(__u64), &kregs->regs[0]) ||
+	    bpf_probe_read_kernel(&out[31], sizeof(__u64), &kregs->sp) ||
+	    bpf_probe_read_kernel(&out[32], sizeof(__u64), &kregs->pc))
+		return 0;
+	return out[31];
 #else
 	return 0;
 #endif
