@@ -55,7 +55,7 @@ UNIT_SRCS := $(wildcard tests/unit/*/test_*.c)
 UNIT_BINS := $(patsubst %.c,$(OUT)/tests/%,$(notdir $(UNIT_SRCS)))
 
 .PHONY: all clean test unit integration test-noisy deps demo bench format-check install soak \
-	fuzz fuzz-build fuzz-regress sanitize ros2-venv deb deps-arm64 cross-arm64
+	fuzz fuzz-build fuzz-regress sanitize sanitize-sinks ros2-venv deb deps-arm64 cross-arm64
 .DELETE_ON_ERROR:
 # keep the BPF objects: the skeleton and the benchmark use them
 .SECONDARY:
@@ -340,6 +340,11 @@ sanitize: all
 	$(Q)RTSUP_TRACE=$(SAN_OUT)/rtsup-trace $(SAN_ENV) $(PYTHON) -m pytest -v -rs $(SAN_TESTS)
 	$(Q)if ls $(SAN_OUT)/san-report.* >/dev/null 2>&1; then \
 		cat $(SAN_OUT)/san-report.*; echo "sanitize: reports above" >&2; exit 1; fi
+
+# A 60 s live run with every sink on under ASan+UBSan, then its replay (not
+# in make test: a minute; docs/reliability.md)
+sanitize-sinks: sanitize
+	$(Q)SAN_OUT=$(CURDIR)/$(SAN_OUT) scripts/sanitize-sinks 60
 
 demo: all
 	$(Q)scripts/demo
