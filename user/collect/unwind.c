@@ -214,12 +214,13 @@ static int uproc_load(struct uproc *p)
 	return uproc_set_maps(p, maps, n) ?: uproc_report(p);
 }
 
-/* uproc_get - the process's entry; its mappings are read at first sight */
-static struct uproc *uproc_get(struct unwinder *u, __u32 tgid)
+/* uproc_find_or_add - the process's entry; *added when it is a new, zeroed one */
+static struct uproc *uproc_find_or_add(struct unwinder *u, __u32 tgid, bool *added)
 {
 	struct uproc *p;
 	int i;
 
+	*added = false;
 	for (i = 0; i < u->n; i++)
 		if (u->p[i].tgid == tgid)
 			return &u->p[i];
@@ -236,7 +237,18 @@ static struct uproc *uproc_get(struct unwinder *u, __u32 tgid)
 	memset(p, 0, sizeof(*p));
 	p->tgid = tgid;
 	p->cache = calloc(SYMCACHE_SIZE, sizeof(*p->cache));
-	uproc_load(p);
+	*added = true;
+	return p;
+}
+
+/* uproc_get - the process's entry; its mappings are read at first sight */
+static struct uproc *uproc_get(struct unwinder *u, __u32 tgid)
+{
+	bool added;
+	struct uproc *p = uproc_find_or_add(u, tgid, &added);
+
+	if (p && added)
+		uproc_load(p);
 	return p;
 }
 
@@ -558,27 +570,13 @@ int unwind_maps(struct unwinder *u, __u32 tgid, struct stack_maps *m)
 /* uproc_offline - a process of the recording, created empty */
 static struct uproc *uproc_offline(struct unwinder *u, __u32 tgid)
 {
-	struct uproc *p;
-	int i;
+	bool added;
+	struct uproc *p = uproc_find_or_add(u, tgid, &added);
 
-	for (i = 0; i < u->n; i++)
-		if (u->p[i].tgid == tgid)
-			return &u->p[i];
-	if (u->n == u->cap) {
-		int cap = u->cap ? u->cap * 2 : 8;
-		struct uproc *np = realloc(u->p, cap * sizeof(*np));
-
-		if (!np)
-			return NULL;
-		u->p = np;
-		u->cap = cap;
+	if (p && added) {
+		p->offline = true;
+		p->gen = ~0U;
 	}
-	p = &u->p[u->n++];
-	memset(p, 0, sizeof(*p));
-	p->tgid = tgid;
-	p->offline = true;
-	p->gen = ~0U;
-	p->cache = calloc(SYMCACHE_SIZE, sizeof(*p->cache));
 	return p;
 }
 
