@@ -52,6 +52,22 @@ def gaps(intervals):
     return [i["interval_s"] for i in intervals]
 
 
+def lateness(intervals, period):
+    """How late each interval but the last (ended by the stop) came against
+    the main loop's own schedule: slots at start + k * period; a slot the
+    loop is already past when an interval ends is skipped, and the next is
+    one period from then (main.c). Never negative: the loop samples only
+    once its slot has come."""
+    due, late = period, []
+    for i in intervals[:-1]:
+        t = i["elapsed_s"]
+        late.append(round(t - due, 6))
+        due += period
+        if due <= t:
+            due = t + period
+    return late
+
+
 # --- privileges and the kernel -------------------------------------------
 
 def test_not_root():
@@ -209,7 +225,12 @@ def test_thread_storm(tmp_path):
     # writes every thread of the interval; measured at most 1.2 s here
     # after the fix, 9.9 s before it
     assert max(gaps(intervals)) < 1.5, gaps(intervals)
-    assert len(intervals) >= summary["elapsed_s"] / 0.5 - 2, gaps(intervals)
+    # and the schedule held: no slot was lost but after a late interval (the
+    # storm starves the tool of CPU on 2 CPUs: a CI run saw one 0.88 s late,
+    # so a count of intervals with a fixed allowance flipped), none came
+    # early, none later than the gap bound above allows
+    late = lateness(intervals, 0.5)
+    assert all(0 <= x < 1.0 for x in late), late
     # the model keeps MODEL_KEEP_DEAD (1024) dead threads, ~9 KiB each
     assert hwm < 200 * 1024, hwm
     # the storm was followed: every thread it made is in the model (the
