@@ -7,6 +7,7 @@ With CI=true a test that cannot load BPF fails; elsewhere it is skipped.
 """
 import json
 import os
+import re
 import signal
 import subprocess
 import threading
@@ -207,6 +208,17 @@ class Loadgen:
         if self.proc.poll() is None:
             self.proc.terminate()
         self.proc.communicate(timeout=30)
+
+
+# a logged level change: "rtsup-trace: TIME name[tid]: WARN -> ERROR: why"
+LEVELS = "OK|WARN|ERROR|STALE"
+LEVEL_CHANGE = re.compile(r"^rtsup-trace: (\S+Z) (.+?): (%s) -> (%s)(?:: (.*))?$"
+                          % (LEVELS, LEVELS))
+
+
+def level_changes(stderr):
+    """Every level change the tool logged: (time, component, from, to, why)."""
+    return [m.groups() for m in map(LEVEL_CHANGE.match, stderr.splitlines()) if m]
 
 
 def threads_by_tid(summary):

@@ -5,7 +5,6 @@ logged and with the fault the generator injected; a slow command does not
 delay the intervals."""
 import json
 import os
-import re
 import socket
 import stat
 import subprocess
@@ -14,7 +13,7 @@ import time
 
 import pytest
 
-from conftest import CLEAN_DEFAULTS, LOADGEN, TRACE, Trace, unique_prefix
+from conftest import CLEAN_DEFAULTS, LOADGEN, TRACE, Trace, level_changes, unique_prefix
 
 pytestmark = pytest.mark.usefixtures("bpf")
 
@@ -26,8 +25,6 @@ CLEAN = CLEAN_DEFAULTS + """rules:
     period: 1ms
 """
 PINNED = ["-C", "0,1"]
-LEVELS = "OK|WARN|ERROR|STALE"
-CHANGE = re.compile(r"^rtsup-trace: (\S+Z) (.+?): (%s) -> (%s)(?:: (.*))?$" % (LEVELS, LEVELS))
 
 # the script action: what it got, environment and stdin, one file per call
 RECORDER = """#!/bin/sh
@@ -36,16 +33,6 @@ env | grep '^RTSUP_' > "$f.env"
 cat > "$f.stdin"
 mv "$f.stdin" "$f.json"
 """
-
-
-def changes(stderr):
-    """Every level change the tool logged: (time, component, from, to, why)."""
-    out = []
-    for line in stderr.splitlines():
-        m = CHANGE.match(line)
-        if m:
-            out.append(m.groups())
-    return out
 
 
 def config(tmp_path, prefix):
@@ -91,7 +78,7 @@ def test_script_action_one_call_per_transition(tmp_path):
     summary = [o for o in objs if o["type"] == "summary"][0]
     t0 = [t for t in summary["threads"] if t["comm"] == prefix + "-0"][0]
     # one call per change into or out of WARN, of any component, no more
-    want = sorted((c[0], c[1], c[2], c[3]) for c in changes(err) if "WARN" in (c[2], c[3]))
+    want = sorted((c[0], c[1], c[2], c[3]) for c in level_changes(err) if "WARN" in (c[2], c[3]))
     got = calls(tmp_path)
     assert sorted((j["time"], j["component"], j["from"], j["level"]) for _, j in got) == want
     for env, j in got:
@@ -193,7 +180,7 @@ def test_signal_action_reaches_process(tmp_path):
             target.kill()
     got = json.loads(out.read_text())
     tids = {t["tid"] for t in summary["threads"] if t["tgid"] == target.pid}
-    entered = [c for c in changes(err) if c[3] == "WARN" and
+    entered = [c for c in level_changes(err) if c[3] == "WARN" and
                int(c[1].rsplit("[", 1)[1].rstrip("]")) in tids]
     # the injected mmap made the loop thread WARN
     assert any(c[1].startswith(prefix + "-0[") and "mmap 1" in (c[4] or "") for c in entered), err
@@ -240,7 +227,7 @@ def test_fifo_and_socket_actions_write_json_lines(tmp_path):
         os.close(rfd)
         srv.close()
     assert code == 2, err  # a FIFO without reader is logged, not fatal
-    want = sorted((c[0], c[1], c[2]) for c in changes(err) if c[3] == "WARN")
+    want = sorted((c[0], c[1], c[2]) for c in level_changes(err) if c[3] == "WARN")
     lines = [json.loads(l) for l in data.decode().splitlines()]
     assert sorted((j["time"], j["component"], j["from"]) for j in lines) == want, err
     assert any(j["component"].startswith(prefix + "-0[") and "rt_unsafe" in j["checks"]

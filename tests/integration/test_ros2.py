@@ -10,7 +10,6 @@ import datetime
 import json
 import os
 import random
-import re
 import socket
 import subprocess
 import threading
@@ -18,7 +17,8 @@ import time
 
 import pytest
 
-from conftest import CLEAN_DEFAULTS, IN_CI, LOADGEN, ROOT, TRACE, Trace, unique_prefix
+from conftest import (CLEAN_DEFAULTS, IN_CI, LOADGEN, ROOT, TRACE, Trace, level_changes,
+                      unique_prefix)
 
 pytestmark = pytest.mark.usefixtures("bpf")
 
@@ -30,8 +30,6 @@ CLEAN = CLEAN_DEFAULTS + """rules:
     match: {thread: "PREFIX-*"}
     period: 1ms
 """
-LEVELS = "OK|WARN|ERROR|STALE"
-CHANGE = re.compile(r"^rtsup-trace: (\S+Z) (.+?): (%s) -> (%s)(?:: (.*))?$" % (LEVELS, LEVELS))
 ROS_LEVEL = {"OK": 0, "WARN": 1, "ERROR": 2, "STALE": 3}
 
 
@@ -82,12 +80,10 @@ class Subscriber:
 def changes(stderr):
     """Level changes rtsup-trace logged: (unix time in ms, component, from, to)."""
     out = []
-    for line in stderr.splitlines():
-        m = CHANGE.match(line)
-        if m:
-            t = datetime.datetime.strptime(m.group(1), "%Y-%m-%dT%H:%M:%S.%fZ")
-            ms = round(t.replace(tzinfo=datetime.timezone.utc).timestamp() * 1000)
-            out.append((ms, m.group(2), m.group(3), m.group(4)))
+    for when, comp, was, now, _ in level_changes(stderr):
+        t = datetime.datetime.strptime(when, "%Y-%m-%dT%H:%M:%S.%fZ")
+        ms = round(t.replace(tzinfo=datetime.timezone.utc).timestamp() * 1000)
+        out.append((ms, comp, was, now))
     return out
 
 
