@@ -201,9 +201,13 @@ RTSUP_INLINE void cycle_begin(struct rtsup_cycle_state *cs, __u64 start,
 	cycle_pend_clear(cs);
 }
 
-/* cycle_close - finish the running cycle at 'now', account it */
+/*
+ * cycle_close - finish the running cycle at 'now', account it. 'released'
+ * is the distance between the requested releases that released it, its
+ * own period (0: none known, the thread's last, cs->nominal).
+ */
 RTSUP_INLINE __u32 cycle_close(struct rtsup_thread *t, const struct cycle_cfg *cfg,
-			       __u64 now, __u64 minflt, __u64 majflt,
+			       __u64 now, __u64 minflt, __u64 majflt, __u64 released,
 			       struct rtsup_cycle *out)
 {
 	struct rtsup_cycle_state *cs = &t->cs;
@@ -226,7 +230,7 @@ RTSUP_INLINE __u32 cycle_close(struct rtsup_thread *t, const struct cycle_cfg *c
 			       cs->start - cs->last_expected : 0;
 		out->flags |= RTSUP_CF_HAS_LATENCY;
 	}
-	out->nominal = cs->nominal ? cs->nominal : cfg->period;
+	out->nominal = released ? released : cs->nominal ? cs->nominal : cfg->period;
 	if (out->nominal && out->exec > out->nominal)
 		out->flags |= RTSUP_CF_OVERRUN;
 	out->preempt = cs->preempt;
@@ -344,6 +348,12 @@ RTSUP_INLINE __u32 cycle_delim_enter(struct rtsup_thread *t, const struct cycle_
 				     __u64 minflt, __u64 majflt, struct rtsup_cycle *out)
 {
 	struct rtsup_cycle_state *cs = &t->cs;
+	/*
+	 * the ending cycle's own period, before settling learns the next one:
+	 * a loop's last cycle, followed by a long sleep, is judged by its own
+	 * (the first cycle, released by no known distance, by the next)
+	 */
+	__u64 released = cs->nominal;
 	__u32 ev = 0;
 
 	if (cs->mode != RTSUP_MODE_DELIM) {
@@ -365,7 +375,7 @@ RTSUP_INLINE __u32 cycle_delim_enter(struct rtsup_thread *t, const struct cycle_
 	}
 	cs->flags &= ~RTSUP_CS_INTR;
 	if (cs->start) {
-		ev |= cycle_close(t, cfg, now, minflt, majflt, out);
+		ev |= cycle_close(t, cfg, now, minflt, majflt, released, out);
 		if (absolute && expected && expected <= now) {
 			out->flags |= RTSUP_CF_MISS;
 			ev |= CYC_EV_MISS;
@@ -673,7 +683,7 @@ RTSUP_INLINE __u32 cycle_switch_out_on(struct rtsup_thread *t, const struct cycl
 		cycle_add_cpu(cs, now);
 		break;
 	case CYC_OUT_ACT_END:
-		ev |= cycle_close(t, cfg, now, minflt, majflt, out);
+		ev |= cycle_close(t, cfg, now, minflt, majflt, 0, out);
 		cycle_account(t, cfg, out);
 		return ev;
 	}

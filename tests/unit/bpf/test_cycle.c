@@ -359,6 +359,29 @@ static void test_cycle_miss_overrun(void **state)
 	assert_int_equal(f->t.overruns, 1);
 }
 
+/*
+ * The cycle's own period judges its overrun: the distance that released it,
+ * not the one it asks for next. A loop that ends with a long sleep (a
+ * generator's --hold, a loop going idle) had its last overrun hidden.
+ */
+static void test_cycle_overrun_judged_by_its_own_release(void **state)
+{
+	struct fx *f = *state;
+	__u64 d = rel(2) + LAT + 1500 * US;
+
+	steady(f, rel(0), 1, 2);
+	assert_int_equal(enter(f, d, rel(3) + 3600000 * MS), CYC_EV_CLOSED);
+	assert_int_equal(f->out.nominal, MS);
+	assert_true(f->out.flags & RTSUP_CF_OVERRUN);
+	assert_int_equal(f->t.overruns, 1);
+	/* the cycle it released has the long one */
+	wake_up(f, 3 + 3600000);
+	assert_int_equal(enter(f, rel(3 + 3600000) + LAT + 2 * MS, rel(3 + 3600010)),
+			 CYC_EV_CLOSED);
+	assert_int_equal(f->out.nominal, 3600001 * MS);
+	assert_false(f->out.flags & RTSUP_CF_OVERRUN);
+}
+
 /* a late start misses the next release without an overrun */
 static void test_cycle_miss_without_overrun(void **state)
 {
@@ -1251,6 +1274,7 @@ int main(void)
 		T(test_cycle_preempt_in_cycle),
 		T(test_cycle_block_in_cycle),
 		T(test_cycle_miss_overrun),
+		T(test_cycle_overrun_judged_by_its_own_release),
 		T(test_cycle_miss_without_overrun),
 		T(test_cycle_miss_boundary),
 		T(test_cycle_early_release),
