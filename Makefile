@@ -208,6 +208,7 @@ UNIT_DEPS_test_actions := user/robot/actions.c user/config/actionspec.c user/jud
 UNIT_LIBS_test_actions := -ljansson -lyaml
 UNIT_DEPS_test_targets := user/collect/targets.c
 UNIT_DEPS_test_pidns := user/collect/pidns.c
+UNIT_DEPS_test_selfsched := user/collect/selfsched.c
 UNIT_DEPS_test_procmaps := user/collect/procmaps.c
 UNIT_DEPS_test_stackagg := user/model/stackagg.c
 UNIT_DEPS_test_candump := user/offline/candump.c

@@ -28,6 +28,7 @@
 #include "sinks/sinks.h"
 #include "judge/supervise.h"
 #include "collect/targets.h"
+#include "collect/selfsched.h"
 #include "can.h"	/* the skeleton's .bss holds can_if_slot */
 #include "rtsup.skel.h"
 
@@ -196,6 +197,31 @@ static double overhead_interval(struct overhead *ov, struct loader *l, const str
 	return ov->pct;
 }
 
+/* The main loop's own schedstat at the start and at the last interval's end. */
+struct loop_clock {
+	struct self_sched start, last;
+	bool ok;		/* the kernel keeps schedstat (CONFIG_SCHED_INFO) */
+};
+
+/* loop_clock_start - the run begins */
+static void loop_clock_start(struct loop_clock *lc)
+{
+	lc->ok = !self_sched_read(&lc->start);
+	lc->last = lc->start;
+}
+
+/* loop_clock_take - an interval ends: its span and the run's */
+static void loop_clock_take(struct loop_clock *lc, struct self_in *in)
+{
+	struct self_sched now = lc->last;
+	bool ok = lc->ok && !self_sched_read(&now);
+
+	in->loop = self_span_since(&lc->last, &now, ok);
+	in->loop_run = self_span_since(&lc->start, &now, ok);
+	if (ok)
+		lc->last = now;
+}
+
 /* self_in - what the supervisor knows about itself this interval */
 static void self_in(struct self_in *in, const struct collector *c, const struct supervisor *s,
 		    double overhead_pct, __u64 *last_drops)
@@ -276,6 +302,7 @@ static int run_live(struct options *o, struct supervisor *s)
 	struct sinks sk;
 	struct robot rb;
 	struct self_in self;
+	struct loop_clock lc;
 	struct can_model cm;
 	struct actions act;
 	__u64 start, next, last, now, end = 0, last_drops = 0;
@@ -329,6 +356,7 @@ static int run_live(struct options *o, struct supervisor *s)
 	if (robot_start(&rb, &c, s))
 		goto out;
 	start = last = mono_now();
+	loop_clock_start(&lc);
 	overhead_interval(&ov, &l, o, start, false);	/* the first window */
 	next = start + (__u64)(o->interval * 1e9);
 	if (o->duration)
@@ -361,6 +389,7 @@ static int run_live(struct options *o, struct supervisor *s)
 		}
 		now = sample(o, s, &l, &c);
 		self_in(&self, &c, s, overhead_interval(&ov, &l, o, now, false), &last_drops);
+		loop_clock_take(&lc, &self);
 		supervise_interval(s, &c.model, c.bank, &self, now);
 		supervise_can(s, now, (now - last) / 1e9);
 		take_health(s, &c, &act);
@@ -387,6 +416,7 @@ static int run_live(struct options *o, struct supervisor *s)
 	}
 	now = sample(o, s, &l, &c);
 	self_in(&self, &c, s, overhead_interval(&ov, &l, o, now, true), &last_drops);
+	loop_clock_take(&lc, &self);
 	supervise_interval(s, &c.model, c.bank, &self, now);
 	supervise_can(s, now, (now - last) / 1e9);
 	take_health(s, &c, &act);

@@ -221,16 +221,22 @@ def test_thread_storm(tmp_path):
     assert made["created"] == 10000 * STORM_S and made["failed"] == 0
     t = truth["threads"][0]
     assert threads_by_tid(summary)[t["tid"]]["total"]["cycles"] == t["cycles"]
-    # a late interval: the main loop reads up to 4096 thread entries and
-    # writes every thread of the interval; measured at most 1.2 s here
-    # after the fix, 9.9 s before it
-    assert max(gaps(intervals)) < 1.5, gaps(intervals)
-    # and the schedule held: no slot was lost but after a late interval (the
-    # storm starves the tool of CPU on 2 CPUs: a CI run saw one 0.88 s late,
-    # so a count of intervals with a fixed allowance flipped), none came
-    # early, none later than the gap bound above allows
+    # the loop's own work keeps up: each interval it reads up to 4096 thread
+    # entries and writes every thread of the interval, in less CPU time than
+    # the interval (0.26 s at most here; before the fix one took 9.9 s)
+    loop = [(i["supervisor"]["loop_cpu_s"], i["supervisor"]["loop_wait_s"])
+            for i in intervals]
+    assert all(cpu < 0.5 for cpu, _ in loop), loop
+    # and the schedule held: no slot was lost but after a late interval, none
+    # came early, none late by more than the gap bound allows, once the time
+    # the loop waited for a CPU is taken off. The race: the storm's threads
+    # and the loop share 2 CPUs, so the loop can wait on a run queue (CI runs
+    # saw intervals 0.88 s and 1.03 s late); the kernel's schedstat of the
+    # loop's own thread counts that wait (loop_wait_s).
+    g = gaps(intervals)
+    assert all(g[k] - loop[k][1] < 1.5 for k in range(len(g))), (g, loop)
     late = lateness(intervals, 0.5)
-    assert all(0 <= x < 1.0 for x in late), late
+    assert all(0 <= x < 1.0 + loop[k][1] for k, x in enumerate(late)), (late, loop)
     # the model keeps MODEL_KEEP_DEAD (1024) dead threads, ~9 KiB each
     assert hwm < 200 * 1024, hwm
     # the storm was followed: every thread it made is in the model (the

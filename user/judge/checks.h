@@ -12,6 +12,7 @@
 #include "config/config.h"
 #include "model/model.h"
 #include "judge/status.h"
+#include "collect/selfsched.h"
 
 /* Check names: what each message of a verdict says it came from (docs/json.md). */
 #define CHECK_EXCEPTION		"exception"
@@ -62,6 +63,8 @@ struct self_in {
 	double overhead_pct;		/* BPF run time over the interval, % of one CPU; <0 unknown */
 	__u64 lost_events;		/* ring buffer drops in the interval */
 	__u64 untracked_threads;	/* threads the map could not hold, in total */
+	struct self_span loop;		/* the main loop's CPU and run-queue wait, this interval */
+	struct self_span loop_run;	/* the same since the start */
 	const struct thresholds *th;
 };
 

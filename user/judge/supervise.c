@@ -12,6 +12,7 @@ void supervise_init(struct supervisor *s, struct config *cfg)
 	memset(s, 0, sizeof(*s));
 	s->cfg = *cfg;
 	s->gen = 1;
+	s->loop = s->loop_run = SELF_SPAN_UNKNOWN;
 	status_reset(&s->self);
 }
 
@@ -221,6 +222,8 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 		judge(s, comp, &old, &st, &tm->worst, now, tm);
 	}
 	s->overhead_pct = self->overhead_pct;
+	s->loop = self->loop;
+	s->loop_run = self->loop_run;
 	old = s->self;
 	check_self(self, &s->self);
 	judge(s, "rtsup-trace", &old, &s->self, &s->self_worst, now, NULL);

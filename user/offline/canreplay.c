@@ -63,7 +63,8 @@ static __u32 iface_index(struct can_replay *r, const char *name)
 /* interval - an interval of log time ended at 'at': judge and report it */
 static void interval(struct can_replay *r, __u64 at, bool end)
 {
-	struct self_in self = { .overhead_pct = -1, .th = &r->s->cfg.defaults.th };
+	struct self_in self = { .overhead_pct = -1, .th = &r->s->cfg.defaults.th,
+				.loop = SELF_SPAN_UNKNOWN, .loop_run = SELF_SPAN_UNKNOWN };
 	double len = (at - r->last) / 1e9;
 
 	r->m.bank = RTSUP_BANK(r->epoch);

@@ -177,6 +177,9 @@ static void on_mark(struct replay *r, const struct rec_interval *ri, bool end)
 		.overhead_pct = ri->overhead_pct,
 		.th = &r->s->cfg.defaults.th,
 		.untracked_threads = ri->counters[RTSUP_C_MAP_FULL],
+		/* the live loop's own time is not recorded: unknown */
+		.loop = SELF_SPAN_UNKNOWN,
+		.loop_run = SELF_SPAN_UNKNOWN,
 	};
 	int i;
 

@@ -377,8 +377,17 @@ static json_t *json_common(const struct collector *c, const struct supervisor *s
 			 "supervisor", "status", json_status(&sv->self), "worst_level",
 			 level_name(sv->self_worst), "bpf_overhead_pct",
 			 sv->overhead_pct >= 0 ? json_real(sv->overhead_pct) : json_null());
-	if (o)
+	if (o) {
+		/* the report's span: the interval's, or the whole run's in the summary */
+		const struct self_span *sp = strcmp(type, "summary") ? &sv->loop : &sv->loop_run;
+		json_t *su = json_object_get(o, "supervisor");
+
+		json_object_set_new(su, "loop_cpu_s", sp->cpu_s >= 0 ? json_real(sp->cpu_s) :
+				    json_null());
+		json_object_set_new(su, "loop_wait_s", sp->wait_s >= 0 ? json_real(sp->wait_s) :
+				    json_null());
 		json_object_set_new(o, "health", json_health(&sv->health));
+	}
 	return o;
 }
 
