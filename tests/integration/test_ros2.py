@@ -159,26 +159,41 @@ def test_diagnostics_threads_levels_and_fault(tmp_path, venv_python):
     assert all(len(v) >= 4 for v in seen.values()), {n: len(v) for n, v in seen.items()}
     faulty = [n for n, i in names.items() if i == 0][0]
     clean = [n for n, i in names.items() if i == 1][0]
-    # the injected mmap: a WARN that says so, on that thread only
-    warn = [(m, s) for m, s in seen[faulty] if s["level"] == 1 and "mmap 1" in s["message"]]
-    assert warn, [s for _, s in seen[faulty]]
+    # the injected mmap: a verdict that says so, on that thread only. Its level
+    # is the one the tool logged (above): WARN on a quiet machine; on a noisy
+    # one the thread can be at WARN or ERROR already for deadline misses
+    hit = [(m, s) for m, s in seen[faulty] if "mmap 1" in s["message"]]
+    assert hit, [s for _, s in seen[faulty]]
     assert not any("mmap" in s["message"] for _, s in seen[clean])
-    # published at once: the message that first says WARN carries the verdict
-    # that changed the level (the logged OK -> WARN), and the one before said OK
-    first = seen[faulty].index(warn[0])
-    m, s = warn[0]
+    m, s = hit[0]
     comp = faulty.rsplit("/", 1)[1]
-    into = [t for t, c, a, b in chg if c == comp and b == "WARN"]
-    assert stamp_ms(m) in into, (stamp_ms(m), chg)
-    assert first > 0 and seen[faulty][first - 1][1]["level"] == 0
-    # and it arrived within one interval of that verdict. The race: DDS's
-    # delivery over loopback and the subscriber's wake-up on a loaded host.
-    # The stamp is CLOCK_MONOTONIC plus the offset to CLOCK_REALTIME taken at
-    # the start: an NTP slew since may move it by a few ms (10 ms allowed)
-    lag = m["received"] - (m["header"]["stamp"]["sec"] + m["header"]["stamp"]["nanosec"] / 1e9)
-    assert -0.01 <= lag < INTERVAL, lag
+    assert s["level"] >= ROS_LEVEL["WARN"], s
     vals = {v["key"]: v["value"] for v in s["values"]}
-    assert int(vals["unsafe_total"]) >= 1 and vals["worst_level"] == "WARN", vals
+    assert int(vals["unsafe_total"]) >= 1 and vals["worst_level"] in ("WARN", "ERROR"), vals
+    # published at once: every level change the tool logged while the
+    # subscriber listened came in a message stamped with that verdict, which
+    # says the new level, the one before it the old
+    first_ms = min(stamp_ms(m) for m, _ in seen[faulty])
+    into = [(t, a, b) for t, c, a, b in chg if c == comp and t > first_ms]
+    # the mmap's OK -> WARN is one of them when the thread was OK before it
+    before = logged_level(chg, comp, stamp_ms(m) - 1)
+    if before == "OK":
+        assert (stamp_ms(m), "OK", "WARN") in into, (stamp_ms(m), chg)
+    stamps = [stamp_ms(m) for m, _ in seen[faulty]]
+    for t, was, now in into:
+        assert t in stamps, (t, stamps)
+        k = stamps.index(t)
+        assert seen[faulty][k][1]["level"] == ROS_LEVEL[now]
+        assert seen[faulty][k - 1][1]["level"] == ROS_LEVEL[was]
+        # and it arrived within one interval of that verdict. The race: DDS's
+        # delivery over loopback and the subscriber's wake-up on a loaded
+        # host. The stamp is CLOCK_MONOTONIC plus the offset to CLOCK_REALTIME
+        # taken at the start: an NTP slew since may move it by a few ms (10 ms
+        # allowed)
+        mk = seen[faulty][k][0]
+        lag = mk["received"] - (mk["header"]["stamp"]["sec"] +
+                                mk["header"]["stamp"]["nanosec"] / 1e9)
+        assert -0.01 <= lag < INTERVAL, lag
 
 
 def test_no_dds_unless_asked_and_bad_domain(tmp_path):
