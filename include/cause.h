@@ -264,9 +264,16 @@ RTSUP_SUBPROG void why_take(struct rtsup_why *w, const struct rtsup_cycle_state 
 	}
 	c->wait_ns += span;
 	if (cs->in_delim) {
-		/* the release: how late the wakeup came after the requested time */
-		if (cs->expected && s->armed > cs->expected) {
-			c->timer_ns = s->armed - cs->expected;
+		/*
+		 * the release: how late the wakeup came after the requested
+		 * time, or after the delimiter's entry when that time was past
+		 * already (a backlog, why_delim): a sleep on a past time still
+		 * goes through its timer, which fires at once
+		 */
+		__u64 from = cs->expected + c->backlog_ns;
+
+		if (cs->expected && s->armed > from) {
+			c->timer_ns = s->armed - from;
 			if (!s->waker.tid)
 				c->flags |= RTSUP_CAUSE_F_IDLE;
 		}

@@ -15,10 +15,18 @@
  *   why_late preempt CPU SECONDS
  *	"why-rt" FIFO 50, 5 ms period, 3 ms of work; "why-preemptor" FIFO 70
  *	burns 4 ms every 50 ms (so it comes inside why-rt's work).
+ *   why_late machine CPU SECONDS
+ *	"why-rt" FIFO 50 alone, 20 ms period, 100 us of work: the lateness
+ *	comes from the machine (a guest its hypervisor holds: vm-test hiccups).
  *
  * At the end one JSON line on stdout: what the program itself saw: the
  * tids, the bursts (or lock holds) done, the deadline misses why-rt saw
- * (its work ended after its next release) and the longest burst.
+ * (its work ended after its next release) and the longest burst; and how
+ * its wakeups went: "slept_misses" (cycles that slept, then missed: a late
+ * wakeup or a wait after it), "backlogs" (releases already past when it
+ * went to sleep: no sleep), "late_ns" (every wakeup 1 ms or more after its
+ * release, as it saw it after the sleep returned: its timer's lateness plus
+ * the way back to user space).
  */
 #define _GNU_SOURCE
 #include <errno.h>
@@ -40,6 +48,9 @@ static pthread_mutex_t lock;
 static volatile int rt_tid, other_tid;
 static long bursts, misses, cycles;
 static int64_t burst_max;
+#define LATE_MAX	512
+static long slept_misses, backlogs, nlate;
+static int64_t late_ns[LATE_MAX];
 
 static int64_t now_ns(void)
 {
@@ -100,7 +111,18 @@ static void *periodic(void *p)
 	rt_tid = gettid();
 	next = now_ns() + a->period;
 	while (next < end_ns) {
+		int64_t t = now_ns();
+		int slept = t < next;
+
+		/* a release already past returns at once: the tracer sees it so */
 		sleep_until(next);
+		if (slept) {
+			t = now_ns() - next;
+			if (t >= 1 * MS && nlate < LATE_MAX)
+				late_ns[nlate++] = t;
+		} else {
+			backlogs++;
+		}
 		if (a->use_lock)
 			pthread_mutex_lock(&lock);
 		burn_until(now_ns() + a->work);
@@ -109,8 +131,10 @@ static void *periodic(void *p)
 		next += a->period;
 		cycles++;
 		/* as the tracer judges: the next release is past at the sleep */
-		if (now_ns() >= next)
+		if (now_ns() >= next) {
 			misses++;
+			slept_misses += slept;
+		}
 	}
 	return NULL;
 }
@@ -157,7 +181,7 @@ int main(int argc, char **argv)
 	const char *mode;
 
 	if (argc != 4) {
-		fprintf(stderr, "usage: why_late hog|mutex|pi|preempt|alone CPU SECONDS\n");
+		fprintf(stderr, "usage: why_late hog|mutex|pi|preempt|alone|machine CPU SECONDS\n");
 		return 1;
 	}
 	mode = argv[1];
@@ -174,6 +198,8 @@ int main(int argc, char **argv)
 	} else if (!strcmp(mode, "preempt")) {
 		ra = (struct rt_args){ 5 * MS, 3 * MS, 0 };
 		oa = (struct other_args){ "why-preemptor", 70, 50 * MS, 4 * MS, 0 };
+	} else if (!strcmp(mode, "machine")) {
+		ra = (struct rt_args){ 20 * MS, 100000, 0 };
 	} else if (strcmp(mode, "hog") && strcmp(mode, "alone")) {
 		fprintf(stderr, "why_late: %s: unknown mode\n", mode);
 		return 1;
@@ -182,13 +208,18 @@ int main(int argc, char **argv)
 	srand(1);
 	if (pthread_create(&a, NULL, periodic, &ra))
 		die("pthread_create");
-	if (strcmp(mode, "alone") && pthread_create(&b, NULL, other, &oa))
+	if (strcmp(mode, "alone") && strcmp(mode, "machine") &&
+	    pthread_create(&b, NULL, other, &oa))
 		die("pthread_create");
 	pthread_join(a, NULL);
-	if (strcmp(mode, "alone"))
+	if (strcmp(mode, "alone") && strcmp(mode, "machine"))
 		pthread_join(b, NULL);
 	printf("{\"pid\": %d, \"rt_tid\": %d, \"other_tid\": %d, \"other\": \"%s\", \"prio\": %d, "
-	       "\"bursts\": %ld, \"burst_max_ns\": %lld, \"cycles\": %ld, \"misses\": %ld}\n",
+	       "\"bursts\": %ld, \"burst_max_ns\": %lld, \"cycles\": %ld, \"misses\": %ld, ",
 	       getpid(), rt_tid, other_tid, oa.name, oa.prio, bursts, (long long)burst_max, cycles, misses);
+	printf("\"slept_misses\": %ld, \"backlogs\": %ld, \"late_ns\": [", slept_misses, backlogs);
+	for (long i = 0; i < nlate; i++)
+		printf("%s%lld", i ? ", " : "", (long long)late_ns[i]);
+	printf("]}\n");
 	return 0;
 }

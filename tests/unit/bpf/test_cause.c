@@ -179,6 +179,42 @@ static void test_cause_timer_on_idle_cpu(void **state)
 	assert_int_equal(f.w.out.who.comm[0], '\0');
 }
 
+/*
+ * the releases a late cycle swallowed: the next sleep asks for a time
+ * already past, and the kernel still goes through its timer, which fires
+ * at once (a wakeup 7 us after the delimiter's entry). That cycle is late
+ * for its backlog, not for its timer: only the 7 us are the timer's.
+ */
+static void test_cause_backlog_sleep_is_no_timer(void **state)
+{
+	struct fx f;
+
+	fx_init(&f);
+	f.cs.in_delim = 1;
+	f.cs.expected = 10 * MS;
+	wake(&f, 12 * MS);
+	sw(&f, 12 * MS + 3 * US, &target);
+	settle(&f);
+	/* it ends at 12.103 ms, its next release was 11 ms: it enters the sleep late */
+	why_delim(&f.w, CYC_EV_CLOSED | CYC_EV_MISS, 100 * US, 1 * MS, 12 * MS + 103 * US,
+		  11 * MS);
+	assert_int_equal(f.w.out.kind, RTSUP_CAUSE_TIMER);
+	assert_int_equal(f.w.cur.backlog_ns, 1103 * US);
+	f.cs.expected = 11 * MS;
+	sw(&f, 12 * MS + 105 * US, &idle);
+	wake(&f, 12 * MS + 110 * US);
+	sw(&f, 12 * MS + 113 * US, &target);
+	settle(&f);
+	assert_int_equal(f.w.cur.timer_ns, 7 * US);
+	/* 100 us of work, past its next release (12 ms) again */
+	why_delim(&f.w, CYC_EV_CLOSED | CYC_EV_MISS, 100 * US, 1 * MS, 12 * MS + 213 * US,
+		  12 * MS);
+	assert_int_equal(f.w.out.kind, RTSUP_CAUSE_BACKLOG);
+	assert_int_equal(f.w.out.ns, 1103 * US);
+	assert_int_equal(f.w.out.timer_ns, 7 * US);
+	assert_int_equal(f.w.out.who.tid, 0);
+}
+
 /* preempted twice inside the cycle: the longest holder first, sums kept */
 static void test_cause_preemptions_summed(void **state)
 {
@@ -286,6 +322,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_cause_wait_behind_hog),
 		cmocka_unit_test(test_cause_timer_on_idle_cpu),
+		cmocka_unit_test(test_cause_backlog_sleep_is_no_timer),
 		cmocka_unit_test(test_cause_holder_below_target),
 		cmocka_unit_test(test_cause_preemptions_summed),
 		cmocka_unit_test(test_cause_block_inversion),
