@@ -299,12 +299,13 @@ def test_machine_latency_is_named(bpf):
     # space): its lateness bounds the timer part from above
     assert max(g["max_ns"] for g in timer) <= max(late), (truth, timer)
     assert max(g["max_ns"] for g in timer) >= (HOLD_MS - 20) * MS, timer
-    # the releases a hold swallowed: backlogs, behind no task; misses
-    # named to a task are the guest's own noise, rare at a 20 ms period
-    backlog = [g for g in gs if g["kind"] == "backlog"]
-    assert all(g["who"] is None for g in backlog), backlog
-    tasks = [g for g in gs if g["who"]]
-    assert count(tasks) <= 0.05 * misses, gs
+    # the releases a hold swallowed: backlogs behind no task (they inherit
+    # the late cycle's culprit: none). A hold wakes why-rt 80 ms late or
+    # more, so the 4 releases after the late one are past when it goes to
+    # sleep again. Backlogs behind a task follow the guest's own noise
+    # (a task that held why-rt's CPU): not the holds' business
+    machine_backlogs = [g for g in gs if g["kind"] == "backlog" and g["who"] is None]
+    assert count(machine_backlogs) >= 4 * (len(held) - 1), (truth, gs)
     # each miss event says it too: the parts, no culprit; and a hold's,
     # the idle CPU (the task current at the wakeup: the idle task), but
     # when a kernel thread ran on why-rt's CPU as the hold began (one at
@@ -317,3 +318,82 @@ def test_machine_latency_is_named(bpf):
         assert c["ns"] == c["parts"]["timer_ns"] >= c["parts"]["wait_ns"], e
     holds = [e for e in ev if e["cause"]["ns"] >= 50 * MS]
     assert holds and len([e for e in holds if not e["cause"]["idle_cpu"]]) <= 1, holds
+
+
+@pytest.mark.skipif(os.cpu_count() < 2, reason="needs two CPUs")
+def test_migration_from_where_to_where_and_why(bpf):
+    """why-rt moves itself to the other CPU inside every 10th cycle
+    (sched_setaffinity to that CPU alone): each move is a migration inside
+    the cycle, from the CPU it ran on to the other, for an affinity change
+    (sched_migrate_task: its CPU left its mask). Counts, no timing: the
+    guest runs it too."""
+    truth, rt, intervals = run_why("migrate", seconds=4)
+    moves = [tuple(m) for m in truth["moves"]]
+    assert len(moves) >= 10 and all(a != b for a, b in moves), truth
+    assert rt["total"]["unsafe"]["migration"] == len(moves), (truth, rt["total"])
+    ev = [e for i in intervals for e in i["events"]
+          if e["event"] == "unsafe" and e["reason"] == "migration" and e["tid"] == truth["rt_tid"]]
+    folded = [f for i in intervals for f in i.get("events_folded", [])
+              if f.get("reason") == "migration" and f["tid"] == truth["rt_tid"]]
+    assert len(ev) + sum(f["folded"] for f in folded) == len(moves), (ev, folded)
+    assert ev, intervals
+    for e in ev:
+        m = e["migration"]
+        assert (m["from"], m["to"]) in moves and m["why"] == "affinity", (e, moves)
+        assert e["cpu"] == m["to"], e
+
+
+@pytest.mark.skipif(os.cpu_count() < 2, reason="needs two CPUs")
+def test_perfetto_shows_the_causes(bpf, tmp_path):
+    """--perfetto explains the misses where they happen: each miss carries
+    its cause and parts; the longest wait of a late cycle is a slice on its
+    CPU's track named after the task that held the CPU; a block's wakeup is
+    a flow arrow from a slice on the waker's track (why-owner, who unlocked
+    the mutex) to why-rt's cycle. Checked against the JSON of the same run;
+    no timing: the guest runs it too."""
+    pf = tmp_path / "why.json"
+    truth, rt, intervals = run_why("mutex", args=["--perfetto", str(pf)])
+    ev = json.loads(pf.read_text())["traceEvents"]
+    rt_tid, owner = truth["rt_tid"], truth["other_tid"]
+    misses = [e for e in ev if e["ph"] == "i" and e["name"] == "deadline miss"
+              and e["tid"] == rt_tid]
+    # every miss, none folded, each with its cause and parts
+    assert misses and len(misses) == rt["total"]["deadline_misses"], rt["total"]
+    assert all(e["args"]["kind"] and e["args"]["cause"] and "parts" in e["args"]
+               for e in misses)
+    # the groups of the JSON count the same kinds
+    kinds = {}
+    for e in misses:
+        kinds[e["args"]["kind"]] = kinds.get(e["args"]["kind"], 0) + 1
+    jkinds = {}
+    for g in groups(rt):
+        jkinds[g["kind"]] = jkinds.get(g["kind"], 0) + g["count"]
+    assert kinds == jkinds, (kinds, jkinds)
+    cycles = [e for e in ev if e["ph"] == "X" and e["name"] == "cycle" and e["tid"] == rt_tid]
+    # block misses woken by why-owner: an arrow from its track to why-rt's cycle
+    blocks = [e for e in misses if e["args"]["kind"] == "block" and
+              e["args"].get("culprit_tid") == owner]
+    assert blocks, kinds
+    starts = {e["id"]: e for e in ev if e["ph"] == "s" and e["cat"] == "wakeup"}
+    ends = [e for e in ev if e["ph"] == "f" and e["cat"] == "wakeup" and e["tid"] == rt_tid]
+    assert len(ends) >= len(blocks), (len(ends), len(blocks))
+    wakes = {(e["tid"], e["ts"]) for e in ev if e["ph"] == "X" and e["cat"] == "wakeup"}
+    names = {e["tid"]: e["args"]["name"] for e in ev if e["ph"] == "M" and
+             e["name"] == "thread_name"}
+    for f in ends:
+        s = starts[f["id"]]
+        assert s["ts"] <= f["ts"], (s, f)
+        # it starts inside the waker's slice and ends inside why-rt's cycle
+        assert (s["tid"], s["ts"]) in wakes, s
+        assert any(c["ts"] <= f["ts"] <= c["ts"] + c["dur"] for c in cycles), f
+    assert any(starts[f["id"]]["tid"] == owner for f in ends)
+    assert names.get(owner) == "why-owner", names.get(owner)
+    # the longest wait of each late cycle on its CPU's track
+    held = [e for e in ev if e["ph"] == "X" and e["cat"] == "cause" and
+            e["args"]["waiting_tid"] == rt_tid]
+    assert held and len(held) <= len(misses), (len(held), len(misses))
+    cpu_tracks = {e["tid"]: e["args"]["name"] for e in ev if e["ph"] == "M" and
+                  e["name"] == "thread_name" and e["pid"] == held[0]["pid"]}
+    for h in held:
+        assert h["name"].startswith("held by ") and h["dur"] > 0, h
+        assert cpu_tracks[h["tid"]] == "CPU %s" % CPU, (h, cpu_tracks)

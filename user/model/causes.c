@@ -22,6 +22,40 @@ const char *cause_kind_name(__u32 kind)
 	return kind < RTSUP_CAUSE_NR ? kind_names[kind] : "unknown";
 }
 
+static const char *const mig_names[RTSUP_MIG_NR] = {
+	[RTSUP_MIG_UNKNOWN] = "unknown",
+	[RTSUP_MIG_WAKEUP] = "wakeup",
+	[RTSUP_MIG_AFFINITY] = "affinity",
+	[RTSUP_MIG_BALANCE] = "balance",
+};
+
+const char *mig_why_name(__u32 why)
+{
+	return why < RTSUP_MIG_NR ? mig_names[why] : "unknown";
+}
+
+/* mig_text - "; migrated CPU 0 -> 1 (affinity change)", or "" */
+static void mig_text(char *buf, size_t len, const struct rtsup_cause *d)
+{
+	static const char *const how[RTSUP_MIG_NR] = {
+		[RTSUP_MIG_UNKNOWN] = "", [RTSUP_MIG_WAKEUP] = " (placed at its wakeup)",
+		[RTSUP_MIG_AFFINITY] = " (affinity change)", [RTSUP_MIG_BALANCE] = " (load balance)",
+	};
+	char from[16] = "?";
+
+	buf[0] = '\0';
+	if (!d || !d->migrations)
+		return;
+	if (d->mig_from != RTSUP_MIG_NOCPU)
+		snprintf(from, sizeof(from), "%u", d->mig_from);
+	if (d->migrations > 1)
+		snprintf(buf, len, "; migrated %u times, last CPU %s -> %u%s", d->migrations, from,
+			 d->mig_to, how[d->mig_why < RTSUP_MIG_NR ? d->mig_why : 0]);
+	else
+		snprintf(buf, len, "; migrated CPU %s -> %u%s", from, d->mig_to,
+			 how[d->mig_why < RTSUP_MIG_NR ? d->mig_why : 0]);
+}
+
 /* same_group - one group per thread, kind and culprit */
 static int same_group(const struct cause_group *g, __u32 tid, const struct rtsup_cause *c)
 {
@@ -103,8 +137,7 @@ static const char *policy_short(__u32 policy)
 	return policy < sizeof(names) / sizeof(names[0]) ? names[policy] : "?";
 }
 
-/* who_text - "noise-hog[812] FIFO/99", "the idle task" */
-static void who_text(char *buf, size_t len, const struct rtsup_who *w, __u32 self)
+void cause_who_text(char *buf, size_t len, const struct rtsup_who *w, __u32 self)
 {
 	if (!w->tid)
 		snprintf(buf, len, "the idle task");
@@ -142,13 +175,15 @@ static void block_in(char *buf, size_t len, const struct rtsup_cause *d)
 /* a holder below the target's priority kept the CPU: the kernel could not preempt it */
 #define BELOW	", below its priority: not preemptible (kernel section, softirq, IRQs off)"
 
-void causes_text(char *buf, size_t len, __u32 kind, __u32 flags, __u64 ns,
-		 const struct rtsup_who *who, const struct rtsup_cause *detail, __u32 self)
+/* causes_text_kind - causes_text without the migrations */
+static void causes_text_kind(char *buf, size_t len, __u32 kind, __u32 flags, __u64 ns,
+			     const struct rtsup_who *who, const struct rtsup_cause *detail,
+			     __u32 self)
 {
 	char w[64], in[48];
 	double ms = ns / 1e6;
 
-	who_text(w, sizeof(w), who, self);
+	cause_who_text(w, sizeof(w), who, self);
 	/* the idle task held the CPU: it was slow to leave its idle state */
 	if (kind == RTSUP_CAUSE_WAIT && !who->tid) {
 		snprintf(buf, len, "woken, then waited %.3f ms for its idle CPU: machine latency "
@@ -191,13 +226,26 @@ void causes_text(char *buf, size_t len, __u32 kind, __u32 flags, __u64 ns,
 	}
 }
 
+void causes_text(char *buf, size_t len, __u32 kind, __u32 flags, __u64 ns,
+		 const struct rtsup_who *who, const struct rtsup_cause *detail, __u32 self)
+{
+	char mig[64];
+	size_t n;
+
+	causes_text_kind(buf, len, kind, flags, ns, who, detail, self);
+	mig_text(mig, sizeof(mig), detail);
+	n = strlen(buf);
+	if (mig[0] && n + 1 < len)
+		snprintf(buf + n, len - n, "%s", mig);
+}
+
 /* causes_brief - one group in a few words, for a verdict message */
 static void causes_brief(char *buf, size_t len, const struct cause_group *g)
 {
 	char w[64];
 
 	if (g->who.tid) {
-		who_text(w, sizeof(w), &g->who, 0);
+		cause_who_text(w, sizeof(w), &g->who, 0);
 		snprintf(buf, len, "%llu caused by %s (%s, %.1f ms max)",
 			 (unsigned long long)g->count, w, cause_kind_name(g->kind), g->max_ns / 1e6);
 	} else {

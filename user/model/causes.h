@@ -31,6 +31,10 @@ struct causes {
 
 /* cause_kind_name - "timer", "wait", ... as in JSON */
 const char *cause_kind_name(__u32 kind);
+/* cause_who_text - "noise-hog[812] FIFO/99", "the idle task"; self: our own tgid */
+void cause_who_text(char *buf, size_t len, const struct rtsup_who *w, __u32 self);
+/* mig_why_name - why a thread migrated (enum rtsup_mig_why): "affinity"... */
+const char *mig_why_name(__u32 why);
 /* causes_add - one miss of thread tid with its cause */
 void causes_add(struct causes *cs, __u32 tid, const struct rtsup_cause *c);
 /* causes_sort - by thread, then longest total first */

@@ -15,6 +15,11 @@
  *   why_late preempt CPU SECONDS
  *	"why-rt" FIFO 50, 5 ms period, 3 ms of work; "why-preemptor" FIFO 70
  *	burns 4 ms every 50 ms (so it comes inside why-rt's work).
+ *   why_late migrate CPU SECONDS
+ *	"why-rt" FIFO 50, 20 ms period, 200 us of work; every 10th cycle it
+ *	moves itself to the other CPU (CPU - 1, or 1) in the middle of its
+ *	work: sched_setaffinity to that CPU alone. "moves" lists each move as
+ *	[from, to], the CPUs it ran on before and after (sched_getcpu).
  *   why_late machine CPU SECONDS
  *	"why-rt" FIFO 50 alone, 20 ms period, 100 us of work: the lateness
  *	comes from the machine (a guest its hypervisor holds: vm-test hiccups).
@@ -51,6 +56,8 @@ static int64_t burst_max;
 #define LATE_MAX	512
 static long slept_misses, backlogs, nlate;
 static int64_t late_ns[LATE_MAX];
+static int migrate_every, moves[LATE_MAX][2];
+static long nmoves;
 
 static int64_t now_ns(void)
 {
@@ -96,6 +103,20 @@ static void sleep_until(int64_t t)
 		;
 }
 
+/* move_self - to the other CPU, inside the cycle: where it ran before and after */
+static void move_self(int *from_to)
+{
+	int other = cpu ? cpu - 1 : 1, here = sched_getcpu();
+	cpu_set_t set;
+
+	CPU_ZERO(&set);
+	CPU_SET(here == cpu ? other : cpu, &set);
+	if (sched_setaffinity(0, sizeof(set), &set))
+		die("affinity");
+	from_to[0] = here;
+	from_to[1] = sched_getcpu();
+}
+
 struct rt_args {
 	int64_t period, work;
 	int use_lock;
@@ -125,6 +146,11 @@ static void *periodic(void *p)
 		}
 		if (a->use_lock)
 			pthread_mutex_lock(&lock);
+		if (migrate_every && cycles % migrate_every == migrate_every - 1 &&
+		    nmoves < LATE_MAX) {
+			burn_until(now_ns() + a->work / 2);
+			move_self(&moves[nmoves++][0]);
+		}
 		burn_until(now_ns() + a->work);
 		if (a->use_lock)
 			pthread_mutex_unlock(&lock);
@@ -179,9 +205,10 @@ int main(int argc, char **argv)
 	pthread_mutexattr_t ma;
 	pthread_t a, b;
 	const char *mode;
+	int alone;
 
 	if (argc != 4) {
-		fprintf(stderr, "usage: why_late hog|mutex|pi|preempt|alone|machine CPU SECONDS\n");
+		fprintf(stderr, "usage: why_late hog|mutex|pi|preempt|alone|machine|migrate CPU SECONDS\n");
 		return 1;
 	}
 	mode = argv[1];
@@ -198,6 +225,9 @@ int main(int argc, char **argv)
 	} else if (!strcmp(mode, "preempt")) {
 		ra = (struct rt_args){ 5 * MS, 3 * MS, 0 };
 		oa = (struct other_args){ "why-preemptor", 70, 50 * MS, 4 * MS, 0 };
+	} else if (!strcmp(mode, "migrate")) {
+		ra = (struct rt_args){ 20 * MS, 200000, 0 };
+		migrate_every = 10;
 	} else if (!strcmp(mode, "machine")) {
 		ra = (struct rt_args){ 20 * MS, 100000, 0 };
 	} else if (strcmp(mode, "hog") && strcmp(mode, "alone")) {
@@ -208,11 +238,11 @@ int main(int argc, char **argv)
 	srand(1);
 	if (pthread_create(&a, NULL, periodic, &ra))
 		die("pthread_create");
-	if (strcmp(mode, "alone") && strcmp(mode, "machine") &&
-	    pthread_create(&b, NULL, other, &oa))
+	alone = !strcmp(mode, "alone") || !strcmp(mode, "machine") || migrate_every;
+	if (!alone && pthread_create(&b, NULL, other, &oa))
 		die("pthread_create");
 	pthread_join(a, NULL);
-	if (strcmp(mode, "alone") && strcmp(mode, "machine"))
+	if (!alone)
 		pthread_join(b, NULL);
 	printf("{\"pid\": %d, \"rt_tid\": %d, \"other_tid\": %d, \"other\": \"%s\", \"prio\": %d, "
 	       "\"bursts\": %ld, \"burst_max_ns\": %lld, \"cycles\": %ld, \"misses\": %ld, ",
@@ -220,6 +250,9 @@ int main(int argc, char **argv)
 	printf("\"slept_misses\": %ld, \"backlogs\": %ld, \"late_ns\": [", slept_misses, backlogs);
 	for (long i = 0; i < nlate; i++)
 		printf("%s%lld", i ? ", " : "", (long long)late_ns[i]);
+	printf("], \"moves\": [");
+	for (long i = 0; i < nmoves; i++)
+		printf("%s[%d, %d]", i ? ", " : "", moves[i][0], moves[i][1]);
 	printf("]}\n");
 	return 0;
 }
