@@ -446,6 +446,8 @@ RTSUP_INLINE void why_delim(struct rtsup_why *w, __u32 ev, __u64 cpu, __u64 nomi
 	w->cur.backlog_ns = now - expected;
 	w->cur.flags = RTSUP_CAUSE_F_INHERIT;
 	w->cur.who = w->out.who;
+	/* what made the first of a chain of late cycles late: the machine, a task */
+	w->cur.after = w->out.kind == RTSUP_CAUSE_BACKLOG ? w->out.after : w->out.kind;
 }
 
 #endif /* RTSUP_CAUSE_H */

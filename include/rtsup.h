@@ -324,7 +324,7 @@ struct rtsup_cause {
 	__u16 mig_from;		/* the last of them: from CPU (RTSUP_MIG_NOCPU: unknown) */
 	__u16 mig_to;
 	__u32 mig_why;		/* enum rtsup_mig_why */
-	__u32 pad;
+	__u32 after;		/* a backlog: the kind of the late cycle it follows */
 };
 
 /* Per-thread attribution state of the running cycle (include/cause.h). */

@@ -200,6 +200,8 @@ static json_t *json_cause(const struct rtsup_cause *k, __u32 self)
 	json_object_set_new(o, "blocks", json_integer(k->blocks));
 	json_object_set_new(o, "idle_cpu", json_boolean(k->flags & RTSUP_CAUSE_F_IDLE));
 	json_object_set_new(o, "inherited", json_boolean(k->flags & RTSUP_CAUSE_F_INHERIT));
+	json_object_set_new(o, "after", k->kind == RTSUP_CAUSE_BACKLOG ?
+			    json_string(cause_kind_name(k->after)) : json_null());
 	json_object_set_new(o, "holder_below", json_boolean(k->flags & RTSUP_CAUSE_F_BELOW));
 	json_object_set_new(o, "block", b);
 	json_object_set_new(o, "culprits", top);
@@ -220,8 +222,7 @@ static json_t *json_causes(const struct causes *cs, __u32 tid, __u32 self)
 
 	g = causes_of(cs, tid, &n);
 	for (i = 0; i < n; i++) {
-		causes_text(text, sizeof(text), g[i].kind, g[i].flags, g[i].max_ns, &g[i].who,
-			    NULL, self);
+		causes_group_text(text, sizeof(text), &g[i], self);
 		json_array_append_new(a, json_pack("{s:s,s:o,s:I,s:I,s:I,s:b,s:b,s:s}", "kind",
 			cause_kind_name(g[i].kind), "who",
 			g[i].who.tid || g[i].who.comm[0] ? json_who(&g[i].who, self) : json_null(),
@@ -229,6 +230,9 @@ static json_t *json_causes(const struct causes *cs, __u32 tid, __u32 self)
 			"max_ns", (json_int_t)g[i].max_ns, "inversion",
 			!!(g[i].flags & RTSUP_CAUSE_F_INVERSION), "idle_cpu",
 			!!(g[i].flags & RTSUP_CAUSE_F_IDLE), "text", text));
+		if (g[i].kind == RTSUP_CAUSE_BACKLOG)
+			json_object_set_new(json_array_get(a, json_array_size(a) - 1), "after",
+					    json_string(cause_kind_name(g[i].after)));
 	}
 	return a;
 }
@@ -739,8 +743,7 @@ static void table_causes(const struct causes *cs, const struct thread_model *tm,
 
 	g = causes_of(cs, tm->tid, &n);
 	for (i = 0; i < n && i < 5; i++) {
-		causes_text(text, sizeof(text), g[i].kind, g[i].flags, g[i].max_ns, &g[i].who,
-			    NULL, self);
+		causes_group_text(text, sizeof(text), &g[i], self);
 		printf("    %llu miss%s: %s (max); %.3f ms in all\n",
 		       (unsigned long long)g[i].count, g[i].count == 1 ? "" : "es", text,
 		       g[i].total_ns / 1e6);

@@ -24,6 +24,9 @@
  *	"why-rt" FIFO 50 alone, 20 ms period, 100 us of work: the lateness
  *	comes from the machine (a guest its hypervisor holds: vm-test hiccups).
  *
+ * SCALE (optional, default 1) makes every period, work, burst and hold of
+ * the mode that many times longer: for an emulated guest's slow CPUs.
+ *
  * At the end one JSON line on stdout: what the program itself saw: the
  * tids, the bursts (or lock holds) done, the deadline misses why-rt saw
  * (its work ended after its next release) and the longest burst; and how
@@ -205,10 +208,12 @@ int main(int argc, char **argv)
 	pthread_mutexattr_t ma;
 	pthread_t a, b;
 	const char *mode;
+	pthread_attr_t attr;
+	cpu_set_t set;
 	int alone;
 
-	if (argc != 4) {
-		fprintf(stderr, "usage: why_late hog|mutex|pi|preempt|alone|machine|migrate CPU SECONDS\n");
+	if (argc != 4 && argc != 5) {
+		fprintf(stderr, "usage: why_late hog|mutex|pi|preempt|alone|machine|migrate CPU SECONDS [SCALE]\n");
 		return 1;
 	}
 	mode = argv[1];
@@ -234,12 +239,25 @@ int main(int argc, char **argv)
 		fprintf(stderr, "why_late: %s: unknown mode\n", mode);
 		return 1;
 	}
+	/* SCALE: every time of the mode that many times longer (an emulated guest) */
+	if (argc == 5 && atoi(argv[4]) > 1) {
+		ra.period *= atoi(argv[4]);
+		ra.work *= atoi(argv[4]);
+		oa.every *= atoi(argv[4]);
+		oa.burn *= atoi(argv[4]);
+	}
 	pthread_mutex_init(&lock, &ma);
 	srand(1);
-	if (pthread_create(&a, NULL, periodic, &ra))
+	/* born on their CPU: no migration of their start-up counts as one of the test's */
+	CPU_ZERO(&set);
+	CPU_SET(cpu, &set);
+	pthread_attr_init(&attr);
+	if (pthread_attr_setaffinity_np(&attr, sizeof(set), &set))
+		die("affinity");
+	if (pthread_create(&a, &attr, periodic, &ra))
 		die("pthread_create");
 	alone = !strcmp(mode, "alone") || !strcmp(mode, "machine") || migrate_every;
-	if (!alone && pthread_create(&b, NULL, other, &oa))
+	if (!alone && pthread_create(&b, &attr, other, &oa))
 		die("pthread_create");
 	pthread_join(a, NULL);
 	if (!alone)

@@ -213,6 +213,9 @@ static void test_cause_backlog_sleep_is_no_timer(void **state)
 	assert_int_equal(f.w.out.ns, 1103 * US);
 	assert_int_equal(f.w.out.timer_ns, 7 * US);
 	assert_int_equal(f.w.out.who.tid, 0);
+	/* it follows the timer's late cycle, and so does the next of the chain */
+	assert_int_equal(f.w.out.after, RTSUP_CAUSE_TIMER);
+	assert_int_equal(f.w.cur.after, RTSUP_CAUSE_TIMER);
 }
 
 /*
