@@ -1101,18 +1101,20 @@ static __always_inline int on_wakeup(struct task_struct *p, const int btf)
 
 #define TASK_WAKING	0x0200
 
-/* cpu_allowed - is 'cpu' in the task's affinity mask (CPUs past WHY_CPUS: yes) */
-static __always_inline int cpu_allowed(struct task_struct *p, __u32 cpu, const int btf)
+/*
+ * cpu_allowed - is 'cpu' in the task's affinity mask? Only the mask's word
+ * of 'cpu' is read (a mask may be as short as the machine's CPUs); an
+ * unreadable one says yes (no affinity change claimed).
+ */
+static __always_inline int cpu_allowed(struct task_struct *p, __u32 cpu)
 {
-	__u64 bits[WHY_CPUS / 64] = {};
-	__u32 i = cpu / 64;
+	__u64 mask = 0, w = 0;
 
-	/* the bound on the register the load uses, whatever clang kept */
-	barrier_var(i);
-	if (i >= WHY_CPUS / 64)
+	/* the mask's address as a number: a word of it at any CPU's offset */
+	if (bpf_probe_read_kernel(&mask, sizeof(mask), &p->cpus_ptr) || !mask ||
+	    bpf_probe_read_kernel(&w, sizeof(w), (const void *)(mask + cpu / 64 * 8)))
 		return 1;
-	bpf_probe_read_kernel(bits, sizeof(bits), TREAD(btf, p, cpus_ptr));
-	return (bits[i] >> (cpu % 64)) & 1;
+	return (w >> (cpu % 64)) & 1;
 }
 
 /*
@@ -1134,7 +1136,7 @@ static __always_inline int on_migrate(struct task_struct *p, int to, const int b
 	from = TREAD(btf, p, thread_info.cpu);
 	why_migrate(&t->why, from, to,
 		    ((btf ? get_task_state_btf(p) : get_task_state(p)) & TASK_WAKING) != 0,
-		    cpu_allowed(p, from, btf));
+		    cpu_allowed(p, from));
 	s = why_slot_of(from);
 	d = why_slot_of(to);
 	if (s && d && from != (__u32)to && why_move(s, d, tid, bpf_ktime_get_ns()) < 0)
