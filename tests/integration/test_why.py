@@ -248,6 +248,7 @@ def ask_holds():
     end = time.time() + 60
     while not done.exists() and time.time() < end:
         time.sleep(0.1)
+    assert done.exists(), "the host did not hold this VM: scripts/vm-test without hiccups?"
     text = done.read_text()
     held = [int(x) * 1000 for x in text.split()]
     assert len(held) == HOLDS, text
