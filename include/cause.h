@@ -333,7 +333,7 @@ RTSUP_INLINE void why_migrate(struct rtsup_why *w, __u32 from, __u32 to, int wak
  * its cycle: the migration joins the cycle's cause, from the hook's record
  * when it is this one's. Returns the event's arg2 (RTSUP_MIG_ARG).
  */
-RTSUP_INLINE __u64 why_migrated(struct rtsup_why *w, __u32 cpu)
+RTSUP_SUBPROG __u64 why_migrated(struct rtsup_why *w, __u32 cpu)
 {
 	struct rtsup_cause *c = &w->cur;
 	__u32 from = RTSUP_MIG_NOCPU, why = RTSUP_MIG_UNKNOWN;
