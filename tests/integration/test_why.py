@@ -317,9 +317,11 @@ def test_machine_latency_is_named(bpf):
                   if t["tid"] == truth["rt_tid"]]
     assert max(int(m.split(" caused by machine")[0].split()[-1]) for m in msgs) >= 5, msgs
     # each miss event says it too: the parts, no culprit; and a hold's,
-    # the idle CPU (the task current at the wakeup: the idle task), but
-    # when a kernel thread ran on why-rt's CPU as the hold began (one at
-    # most: they run there tens of us in 20 ms)
+    # mostly the idle CPU (the task current at the wakeup: the idle task).
+    # Not always: the resumed guest has the work the hold delayed to catch
+    # up with, and a kernel thread (ksoftirqd/1 with the expired timers, an
+    # IRQ thread) may be current on why-rt's CPU when its timer fires; seen
+    # for 2 holds of 8 on rt-6.12
     ev = [e for e in miss_events(intervals, truth["rt_tid"]) if e["cause"]["kind"] == "timer"]
     assert ev, intervals
     for e in ev:
@@ -327,7 +329,7 @@ def test_machine_latency_is_named(bpf):
         assert c["who"] is None, e
         assert c["ns"] == c["parts"]["timer_ns"] >= c["parts"]["wait_ns"], e
     holds = [e for e in ev if e["cause"]["ns"] >= 50 * MS]
-    assert holds and len([e for e in holds if not e["cause"]["idle_cpu"]]) <= 1, holds
+    assert holds and 2 * len([e for e in holds if e["cause"]["idle_cpu"]]) >= len(holds), holds
 
 
 @pytest.mark.skipif(os.cpu_count() < 2, reason="needs two CPUs")
