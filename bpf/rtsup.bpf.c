@@ -548,15 +548,15 @@ static __always_inline struct why_slot *why_slot_of(__u32 cpu)
  */
 static __always_inline void why_settle(struct rtsup_thread *t)
 {
-	struct why_slot *s = why_slot_of(bpf_get_smp_processor_id());
-	__u32 i;
+	__u32 i, cpu = bpf_get_smp_processor_id();
+	struct why_slot *s = why_slot_of(cpu);
 
 	if (!s)
 		return;
 	for (i = 0; i < WHY_WAITERS; i++) {
 		if (s[i].tid != t->tid || !(s[i].state & WHY_RAN))
 			continue;
-		why_take(&t->why, &t->cs, &s[i]);
+		why_take(&t->why, &t->cs, &s[i], cpu);
 		s[i].tid = 0;
 	}
 }
@@ -787,7 +787,7 @@ static __always_inline void settle(struct rtsup_thread *t, struct cycle_switch_r
 {
 	/* cycle_settle leaves the record's time and CPU as they were */
 	if (r && (cycle_settle(t, r) & CYC_EV_MIGRATE))
-		emit(RTSUP_EV_UNSAFE, t, r->now, RTSUP_U_MIGRATE, r->cpu);
+		emit(RTSUP_EV_UNSAFE, t, r->now, RTSUP_U_MIGRATE, why_migrated(&t->why, r->cpu));
 	why_settle(t);
 }
 
@@ -1072,7 +1072,7 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 		ev = cycle_switch_in(nt, now, cpu, TREAD(btf, next, min_flt),
 				     TREAD(btf, next, maj_flt));
 		if (ev & CYC_EV_MIGRATE)
-			emit(RTSUP_EV_UNSAFE, nt, now, RTSUP_U_MIGRATE, cpu);
+			emit(RTSUP_EV_UNSAFE, nt, now, RTSUP_U_MIGRATE, why_migrated(&nt->why, cpu));
 		why_settle(nt);
 	}
 	return 0;
@@ -1096,6 +1096,51 @@ static __always_inline int on_wakeup(struct task_struct *p, const int btf)
 	t = bpf_map_lookup_elem(&threads, &tid);
 	if (t && cycle_wakeup_read(t))
 		cycle_wakeup(t, now);
+	return 0;
+}
+
+#define TASK_WAKING	0x0200
+
+/*
+ * cpu_allowed - is 'cpu' in the task's affinity mask? Only the mask's word
+ * of 'cpu' is read (a mask may be as short as the machine's CPUs); an
+ * unreadable one says yes (no affinity change claimed).
+ */
+static __always_inline int cpu_allowed(struct task_struct *p, __u32 cpu)
+{
+	__u64 mask = 0, w = 0;
+
+	/* the mask's address as a number: a word of it at any CPU's offset */
+	if (bpf_probe_read_kernel(&mask, sizeof(mask), &p->cpus_ptr) || !mask ||
+	    bpf_probe_read_kernel(&w, sizeof(w), (const void *)(mask + cpu / 64 * 8)))
+		return 1;
+	return (w >> (cpu % 64)) & 1;
+}
+
+/*
+ * on_migrate - a task moves to CPU 'to': for a target, from where and why
+ * (why_migrate), and a wait for the old CPU goes on at the new one
+ * (why_move). No target: one load.
+ */
+static __always_inline int on_migrate(struct task_struct *p, int to, const int btf)
+{
+	__u32 tid = TREAD(btf, p, pid), from;
+	struct why_slot *s, *d;
+	struct rtsup_thread *t;
+
+	if (!maybe_target(tid))
+		return 0;
+	t = bpf_map_lookup_elem(&threads, &tid);
+	if (!t)
+		return 0;
+	from = TREAD(btf, p, thread_info.cpu);
+	why_migrate(&t->why, from, to,
+		    ((btf ? get_task_state_btf(p) : get_task_state(p)) & TASK_WAKING) != 0,
+		    cpu_allowed(p, from));
+	s = why_slot_of(from);
+	d = why_slot_of(to);
+	if (s && d && from != (__u32)to && why_move(s, d, tid, bpf_ktime_get_ns()) < 0)
+		count(RTSUP_C_WHY_BUSY);
 	return 0;
 }
 
@@ -1547,6 +1592,9 @@ int BPF_PROG(sched_switch_##sfx, bool preempt, struct task_struct *prev,	\
 SEC(kind "/sched_wakeup")							\
 int BPF_PROG(sched_wakeup_##sfx, struct task_struct *p)				\
 { return BODY(on_wakeup(p, btf)); }						\
+SEC(kind "/sched_migrate_task")							\
+int BPF_PROG(sched_migrate_task_##sfx, struct task_struct *p, int dest_cpu)	\
+{ return BODY(on_migrate(p, dest_cpu, btf)); }					\
 SEC(kind "/sched_process_fork")							\
 int BPF_PROG(sched_process_fork_##sfx, struct task_struct *parent,		\
 	     struct task_struct *child)						\

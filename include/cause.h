@@ -107,6 +107,10 @@ RTSUP_INLINE void why_reset(struct rtsup_cause *c)
 	why_who_clear(&c->who);
 	for (i = 0; i < RTSUP_CAUSE_TOP; i++)
 		c->top[i].ns = 0;
+	/* held_* and mig_* are read when these say there is one */
+	c->held_from = 0;
+	c->held_to = 0;
+	c->migrations = 0;
 }
 
 /* why_arm - the target 'tid' waits for this CPU since 'now' */
@@ -243,12 +247,19 @@ RTSUP_INLINE void why_syscall(struct rtsup_why *w, __u32 nr, __u32 futex_op)
  * release: timer part) or a block inside the cycle (block part).
  */
 RTSUP_SUBPROG void why_take(struct rtsup_why *w, const struct rtsup_cycle_state *cs,
-			   const struct why_slot *s)
+			   const struct why_slot *s, __u32 cpu)
 {
 	struct rtsup_cause *c = &w->cur;
 	__u64 span = s->ran > s->armed ? s->ran - s->armed : 0, b;
 
 	why_culprit(c, &s->top, s->top_ns);
+	/* the cycle's longest wait: when, where, behind whom (Perfetto) */
+	if (span > c->held_to - c->held_from) {
+		c->held_from = s->armed;
+		c->held_to = s->ran;
+		c->held_cpu = cpu;
+		c->held_tid = s->top_ns ? s->top.tid : 0;
+	}
 	/*
 	 * the cycle's longest holder is below the target: the scheduler could
 	 * not take the CPU from it (a non-preemptible kernel section, softirq
@@ -264,9 +275,16 @@ RTSUP_SUBPROG void why_take(struct rtsup_why *w, const struct rtsup_cycle_state 
 	}
 	c->wait_ns += span;
 	if (cs->in_delim) {
-		/* the release: how late the wakeup came after the requested time */
-		if (cs->expected && s->armed > cs->expected) {
-			c->timer_ns = s->armed - cs->expected;
+		/*
+		 * the release: how late the wakeup came after the requested
+		 * time, or after the delimiter's entry when that time was past
+		 * already (a backlog, why_delim): a sleep on a past time still
+		 * goes through its timer, which fires at once
+		 */
+		__u64 from = cs->expected + c->backlog_ns;
+
+		if (cs->expected && s->armed > from) {
+			c->timer_ns = s->armed - from;
 			if (!s->waker.tid)
 				c->flags |= RTSUP_CAUSE_F_IDLE;
 		}
@@ -285,11 +303,76 @@ RTSUP_SUBPROG void why_take(struct rtsup_why *w, const struct rtsup_cycle_state 
 	c->block_nr = w->sys_nr;
 	c->block_op = w->sys_op;
 	c->waker = s->waker;
+	c->block_woke = s->armed;
+	c->block_ran = s->ran;
 	c->flags &= ~(RTSUP_CAUSE_F_DSTATE | RTSUP_CAUSE_F_INVERSION);
 	if (w->out_dstate)
 		c->flags |= RTSUP_CAUSE_F_DSTATE;
 	if (why_inversion(w->sys_op, s->policy, s->prio, &s->waker))
 		c->flags |= RTSUP_CAUSE_F_INVERSION;
+}
+
+/*
+ * why_migrate - sched_migrate_task of a target, from CPU 'from' to 'to':
+ * why, as far as the kernel tells. A task being woken (TASK_WAKING) is
+ * placed by its wakeup; one whose CPU left its affinity mask is moved by
+ * that change (sched_setaffinity, cpuset); else the scheduler moved it
+ * where it was allowed to stay: load balance, RT push/pull.
+ */
+RTSUP_INLINE void why_migrate(struct rtsup_why *w, __u32 from, __u32 to, int waking,
+			      int allowed)
+{
+	w->mig_from = from;
+	w->mig_to = to;
+	w->mig_why = waking ? RTSUP_MIG_WAKEUP : !allowed ? RTSUP_MIG_AFFINITY :
+		     RTSUP_MIG_BALANCE;
+}
+
+/*
+ * why_migrated - the thread runs on CPU 'cpu', another than before, inside
+ * its cycle: the migration joins the cycle's cause, from the hook's record
+ * when it is this one's. Returns the event's arg2 (RTSUP_MIG_ARG).
+ */
+RTSUP_SUBPROG __u64 why_migrated(struct rtsup_why *w, __u32 cpu)
+{
+	struct rtsup_cause *c = &w->cur;
+	__u32 from = RTSUP_MIG_NOCPU, why = RTSUP_MIG_UNKNOWN;
+
+	if (w->mig_why && w->mig_to == cpu) {
+		from = w->mig_from;
+		why = w->mig_why;
+	}
+	w->mig_why = 0;
+	c->migrations++;
+	c->mig_from = from;
+	c->mig_to = cpu;
+	c->mig_why = why;
+	return RTSUP_MIG_ARG(from, cpu, why);
+}
+
+/*
+ * why_move - a target waiting for CPU src (its slots 's') is moved to the
+ * CPU of slots 'd' before it ran: its wait goes on there, from its start,
+ * and the old CPU's slot is free (else it stayed armed, charging that
+ * CPU's switches, until stale). 1 moved, 0 no wait to move, -1 both slots
+ * there hold other targets' waits (the wait is dropped, counted).
+ */
+RTSUP_INLINE int why_move(struct why_slot *s, struct why_slot *d, __u32 tid, __u64 now)
+{
+	int i, j;
+
+	for (i = 0; i < WHY_WAITERS; i++)
+		if (s[i].tid == tid && !(s[i].state & WHY_RAN))
+			break;
+	if (i >= WHY_WAITERS)
+		return 0;
+	j = why_pick(d, tid, now);
+	if (j >= 0 && j < WHY_WAITERS) {
+		d[j] = s[i];
+		d[j].since = now;
+	}
+	s[i].tid = 0;
+	return j >= 0 ? 1 : -1;
 }
 
 /*
@@ -363,6 +446,8 @@ RTSUP_INLINE void why_delim(struct rtsup_why *w, __u32 ev, __u64 cpu, __u64 nomi
 	w->cur.backlog_ns = now - expected;
 	w->cur.flags = RTSUP_CAUSE_F_INHERIT;
 	w->cur.who = w->out.who;
+	/* what made the first of a chain of late cycles late: the machine, a task */
+	w->cur.after = w->out.kind == RTSUP_CAUSE_BACKLOG ? w->out.after : w->out.kind;
 }
 
 #endif /* RTSUP_CAUSE_H */

@@ -275,6 +275,25 @@ enum rtsup_cause_kind {
 #define RTSUP_CAUSE_F_INHERIT	0x08	/* backlog: 'who' is the previous cycle's culprit */
 #define RTSUP_CAUSE_F_BELOW	0x10	/* the longest holder was below the target's priority */
 
+/*
+ * Why a target moved to another CPU, as far as the kernel tells at
+ * sched_migrate_task (cause.h, why_migrate).
+ */
+enum rtsup_mig_why {
+	RTSUP_MIG_UNKNOWN,	/* the hook did not see it */
+	RTSUP_MIG_WAKEUP,	/* placed at its wakeup (TASK_WAKING) */
+	RTSUP_MIG_AFFINITY,	/* its CPU left its affinity mask */
+	RTSUP_MIG_BALANCE,	/* load balance, RT push/pull: allowed where it was */
+	RTSUP_MIG_NR,
+};
+
+/* arg2 of an RTSUP_U_MIGRATE event: from which CPU (RTSUP_MIG_NOCPU: unknown), to which, why */
+#define RTSUP_MIG_NOCPU		0xffffU
+#define RTSUP_MIG_ARG(from, to, why)	((__u64)(to) | (__u64)(from) << 16 | (__u64)(why) << 32)
+#define RTSUP_MIG_TO(a)		((__u32)((a) & 0xffff))
+#define RTSUP_MIG_FROM(a)	((__u32)(((a) >> 16) & 0xffff))
+#define RTSUP_MIG_WHY(a)	((__u32)(((a) >> 32) & 0xffff))
+
 /* Why one cycle was late, in parts (ns), and the one that won. */
 struct rtsup_cause {
 	__u32 kind;		/* enum rtsup_cause_kind */
@@ -294,6 +313,18 @@ struct rtsup_cause {
 	struct rtsup_who who;	/* the culprit of the winning part */
 	struct rtsup_who waker;	/* ended the longest block (or the late release's timer) */
 	struct rtsup_culprit top[RTSUP_CAUSE_TOP];	/* held the CPU, longest first */
+	/* when and where (Perfetto: culprit slices on CPU tracks, wakeup flows) */
+	__u64 held_from;	/* the longest wait or preemption: its wakeup or preemption */
+	__u64 held_to;		/* its switch-in */
+	__u32 held_cpu;		/* the CPU it waited for */
+	__u32 held_tid;		/* held longest by this task in that wait (0: none, idle) */
+	__u64 block_woke;	/* the longest block's wakeup, by 'waker' */
+	__u64 block_ran;	/* its switch-in after it */
+	__u32 migrations;	/* inside the cycle */
+	__u16 mig_from;		/* the last of them: from CPU (RTSUP_MIG_NOCPU: unknown) */
+	__u16 mig_to;
+	__u32 mig_why;		/* enum rtsup_mig_why */
+	__u32 after;		/* a backlog: the kind of the late cycle it follows */
 };
 
 /* Per-thread attribution state of the running cycle (include/cause.h). */
@@ -304,6 +335,9 @@ struct rtsup_why {
 	__u32 out_dstate;	/* that block is uninterruptible */
 	__u32 sys_nr;		/* syscall in progress inside the cycle + 1 */
 	__u32 sys_op;		/* and its futex operation */
+	__u16 mig_from;		/* its last sched_migrate_task: from CPU */
+	__u16 mig_to;		/* to CPU */
+	__u32 mig_why;		/* enum rtsup_mig_why, 0 = taken (why_migrated) */
 };
 
 #define WHY_WOKEN	1	/* the target was woken and waits for the CPU */

@@ -22,11 +22,46 @@ const char *cause_kind_name(__u32 kind)
 	return kind < RTSUP_CAUSE_NR ? kind_names[kind] : "unknown";
 }
 
+static const char *const mig_names[RTSUP_MIG_NR] = {
+	[RTSUP_MIG_UNKNOWN] = "unknown",
+	[RTSUP_MIG_WAKEUP] = "wakeup",
+	[RTSUP_MIG_AFFINITY] = "affinity",
+	[RTSUP_MIG_BALANCE] = "balance",
+};
+
+const char *mig_why_name(__u32 why)
+{
+	return why < RTSUP_MIG_NR ? mig_names[why] : "unknown";
+}
+
+/* mig_text - "; migrated CPU 0 -> 1 (affinity change)", or "" */
+static void mig_text(char *buf, size_t len, const struct rtsup_cause *d)
+{
+	static const char *const how[RTSUP_MIG_NR] = {
+		[RTSUP_MIG_UNKNOWN] = "", [RTSUP_MIG_WAKEUP] = " (placed at its wakeup)",
+		[RTSUP_MIG_AFFINITY] = " (affinity change)", [RTSUP_MIG_BALANCE] = " (load balance)",
+	};
+	char from[16] = "?";
+
+	buf[0] = '\0';
+	if (!d || !d->migrations)
+		return;
+	if (d->mig_from != RTSUP_MIG_NOCPU)
+		snprintf(from, sizeof(from), "%u", d->mig_from);
+	if (d->migrations > 1)
+		snprintf(buf, len, "; migrated %u times, last CPU %s -> %u%s", d->migrations, from,
+			 d->mig_to, how[d->mig_why < RTSUP_MIG_NR ? d->mig_why : 0]);
+	else
+		snprintf(buf, len, "; migrated CPU %s -> %u%s", from, d->mig_to,
+			 how[d->mig_why < RTSUP_MIG_NR ? d->mig_why : 0]);
+}
+
 /* same_group - one group per thread, kind and culprit */
 static int same_group(const struct cause_group *g, __u32 tid, const struct rtsup_cause *c)
 {
 	return g->tid == tid && g->kind == c->kind && g->who.tid == c->who.tid &&
-	       !strncmp(g->who.comm, c->who.comm, RTSUP_COMM_LEN);
+	       !strncmp(g->who.comm, c->who.comm, RTSUP_COMM_LEN) &&
+	       (c->kind != RTSUP_CAUSE_BACKLOG || g->after == c->after);
 }
 
 void causes_add(struct causes *cs, __u32 tid, const struct rtsup_cause *c)
@@ -55,6 +90,7 @@ void causes_add(struct causes *cs, __u32 tid, const struct rtsup_cause *c)
 		memset(g, 0, sizeof(*g));
 		g->tid = tid;
 		g->kind = c->kind;
+		g->after = c->kind == RTSUP_CAUSE_BACKLOG ? c->after : 0;
 		g->who = c->who;
 		g->who.comm[RTSUP_COMM_LEN - 1] = '\0';
 	}
@@ -103,8 +139,7 @@ static const char *policy_short(__u32 policy)
 	return policy < sizeof(names) / sizeof(names[0]) ? names[policy] : "?";
 }
 
-/* who_text - "noise-hog[812] FIFO/99", "the idle task" */
-static void who_text(char *buf, size_t len, const struct rtsup_who *w, __u32 self)
+void cause_who_text(char *buf, size_t len, const struct rtsup_who *w, __u32 self)
 {
 	if (!w->tid)
 		snprintf(buf, len, "the idle task");
@@ -142,13 +177,29 @@ static void block_in(char *buf, size_t len, const struct rtsup_cause *d)
 /* a holder below the target's priority kept the CPU: the kernel could not preempt it */
 #define BELOW	", below its priority: not preemptible (kernel section, softirq, IRQs off)"
 
-void causes_text(char *buf, size_t len, __u32 kind, __u32 flags, __u64 ns,
-		 const struct rtsup_who *who, const struct rtsup_cause *detail, __u32 self)
+/* after_text - what a backlog behind no task follows: " (machine / timer latency)" */
+static const char *after_text(__u32 after)
+{
+	switch (after) {
+	case RTSUP_CAUSE_TIMER:
+		return " (machine / timer latency)";
+	case RTSUP_CAUSE_WAIT:
+		return " (machine latency: idle exit)";
+	case RTSUP_CAUSE_EXEC:
+		return " (its own CPU time)";
+	}
+	return "";
+}
+
+/* causes_text_kind - causes_text without the migrations */
+static void causes_text_kind(char *buf, size_t len, __u32 kind, __u32 flags, __u64 ns,
+			     const struct rtsup_who *who, const struct rtsup_cause *detail,
+			     __u32 self)
 {
 	char w[64], in[48];
 	double ms = ns / 1e6;
 
-	who_text(w, sizeof(w), who, self);
+	cause_who_text(w, sizeof(w), who, self);
 	/* the idle task held the CPU: it was slow to leave its idle state */
 	if (kind == RTSUP_CAUSE_WAIT && !who->tid) {
 		snprintf(buf, len, "woken, then waited %.3f ms for its idle CPU: machine latency "
@@ -180,8 +231,8 @@ void causes_text(char *buf, size_t len, __u32 kind, __u32 flags, __u64 ns,
 			snprintf(buf, len, "released %.3f ms late: the cycle before ended late "
 				 "(behind %s)", ms, w);
 		else
-			snprintf(buf, len, "released %.3f ms late: the cycle before ended late",
-				 ms);
+			snprintf(buf, len, "released %.3f ms late: the cycle before ended late%s",
+				 ms, after_text(detail ? detail->after : RTSUP_CAUSE_NONE));
 		break;
 	case RTSUP_CAUSE_EXEC:
 		snprintf(buf, len, "its own CPU time, %.3f ms", ms);
@@ -191,29 +242,65 @@ void causes_text(char *buf, size_t len, __u32 kind, __u32 flags, __u64 ns,
 	}
 }
 
+void causes_text(char *buf, size_t len, __u32 kind, __u32 flags, __u64 ns,
+		 const struct rtsup_who *who, const struct rtsup_cause *detail, __u32 self)
+{
+	char mig[64];
+	size_t n;
+
+	causes_text_kind(buf, len, kind, flags, ns, who, detail, self);
+	mig_text(mig, sizeof(mig), detail);
+	n = strlen(buf);
+	if (mig[0] && n + 1 < len)
+		snprintf(buf + n, len - n, "%s", mig);
+}
+
+void causes_group_text(char *buf, size_t len, const struct cause_group *g, __u32 self)
+{
+	struct rtsup_cause d;
+
+	memset(&d, 0, sizeof(d));
+	d.after = g->after;
+	causes_text(buf, len, g->kind, g->flags, g->max_ns, &g->who, &d, self);
+}
+
+/* machine - what a miss behind no task says it was, for a verdict */
+static const char *machine(__u32 kind)
+{
+	switch (kind) {
+	case RTSUP_CAUSE_TIMER:
+		return "machine / timer latency";
+	case RTSUP_CAUSE_WAIT:
+		return "machine latency (idle exit)";
+	case RTSUP_CAUSE_EXEC:
+		return "its own CPU time";
+	case RTSUP_CAUSE_BACKLOG:
+		return "the late cycle before";
+	}
+	return "nothing measured";
+}
+
 /* causes_brief - one group in a few words, for a verdict message */
 static void causes_brief(char *buf, size_t len, const struct cause_group *g)
 {
 	char w[64];
 
 	if (g->who.tid) {
-		who_text(w, sizeof(w), &g->who, 0);
+		cause_who_text(w, sizeof(w), &g->who, 0);
 		snprintf(buf, len, "%llu caused by %s (%s, %.1f ms max)",
 			 (unsigned long long)g->count, w, cause_kind_name(g->kind), g->max_ns / 1e6);
 	} else {
 		snprintf(buf, len, "%llu caused by %s (%.1f ms max)", (unsigned long long)g->count,
-			 g->kind == RTSUP_CAUSE_TIMER ? "machine / timer latency" :
-			 g->kind == RTSUP_CAUSE_WAIT ? "machine latency (idle exit)" :
-			 g->kind == RTSUP_CAUSE_EXEC ? "its own CPU time" :
-			 g->kind == RTSUP_CAUSE_BACKLOG ? "the late cycle before" : "nothing measured",
-			 g->max_ns / 1e6);
+			 machine(g->kind), g->max_ns / 1e6);
 	}
 }
 
 /*
  * top_culprit - a thread's leading cause: its longest group but a backlog
  * (the consequence of another), with the misses of every group of the same
- * culprit (a hog's waits and the backlogs after them) counted in
+ * culprit (a hog's waits and the backlogs after them) counted in; with no
+ * task, the backlogs after the same kind (a hypervisor's late wakeups and
+ * the releases they swallowed)
  */
 static void top_culprit(char *buf, size_t len, const struct cause_group *g, size_t n)
 {
@@ -225,7 +312,10 @@ static void top_culprit(char *buf, size_t len, const struct cause_group *g, size
 			lead = i;
 	top = g[lead];
 	for (i = 0; i < n; i++)
-		if (i != lead && g[i].who.tid && g[i].who.tid == top.who.tid)
+		if (i != lead && ((g[i].who.tid && g[i].who.tid == top.who.tid) ||
+				  (!g[i].who.tid && !top.who.tid && !top.who.comm[0] &&
+				   top.kind != RTSUP_CAUSE_BACKLOG &&
+				   g[i].kind == RTSUP_CAUSE_BACKLOG && g[i].after == top.kind)))
 			top.count += g[i].count;
 	causes_brief(buf, len, &top);
 }

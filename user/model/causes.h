@@ -18,6 +18,7 @@ struct cause_group {
 	__u32 kind;		/* enum rtsup_cause_kind */
 	struct rtsup_who who;	/* the culprit; tid 0 and no name: none */
 	__u32 flags;		/* RTSUP_CAUSE_F_* of any of its misses */
+	__u32 after;		/* a backlog: the kind of the late cycle before (rtsup_cause) */
 	__u64 count;
 	__u64 total_ns;		/* the winning parts, summed */
 	__u64 max_ns;
@@ -31,6 +32,12 @@ struct causes {
 
 /* cause_kind_name - "timer", "wait", ... as in JSON */
 const char *cause_kind_name(__u32 kind);
+/* cause_who_text - "noise-hog[812] FIFO/99", "the idle task"; self: our own tgid */
+void cause_who_text(char *buf, size_t len, const struct rtsup_who *w, __u32 self);
+/* causes_group_text - a group as causes_text says one of its misses, with max_ns */
+void causes_group_text(char *buf, size_t len, const struct cause_group *g, __u32 self);
+/* mig_why_name - why a thread migrated (enum rtsup_mig_why): "affinity"... */
+const char *mig_why_name(__u32 why);
 /* causes_add - one miss of thread tid with its cause */
 void causes_add(struct causes *cs, __u32 tid, const struct rtsup_cause *c);
 /* causes_sort - by thread, then longest total first */

@@ -200,9 +200,15 @@ static json_t *json_cause(const struct rtsup_cause *k, __u32 self)
 	json_object_set_new(o, "blocks", json_integer(k->blocks));
 	json_object_set_new(o, "idle_cpu", json_boolean(k->flags & RTSUP_CAUSE_F_IDLE));
 	json_object_set_new(o, "inherited", json_boolean(k->flags & RTSUP_CAUSE_F_INHERIT));
+	json_object_set_new(o, "after", k->kind == RTSUP_CAUSE_BACKLOG ?
+			    json_string(cause_kind_name(k->after)) : json_null());
 	json_object_set_new(o, "holder_below", json_boolean(k->flags & RTSUP_CAUSE_F_BELOW));
 	json_object_set_new(o, "block", b);
 	json_object_set_new(o, "culprits", top);
+	json_object_set_new(o, "migration", k->migrations ? json_pack("{s:i,s:o,s:i,s:s}",
+		"count", k->migrations, "from", k->mig_from == RTSUP_MIG_NOCPU ? json_null() :
+		json_integer(k->mig_from), "to", k->mig_to, "why", mig_why_name(k->mig_why)) :
+		json_null());
 	return o;
 }
 
@@ -216,14 +222,17 @@ static json_t *json_causes(const struct causes *cs, __u32 tid, __u32 self)
 
 	g = causes_of(cs, tid, &n);
 	for (i = 0; i < n; i++) {
-		causes_text(text, sizeof(text), g[i].kind, g[i].flags, g[i].max_ns, &g[i].who,
-			    NULL, self);
-		json_array_append_new(a, json_pack("{s:s,s:o,s:I,s:I,s:I,s:b,s:s}", "kind",
+		causes_group_text(text, sizeof(text), &g[i], self);
+		json_array_append_new(a, json_pack("{s:s,s:o,s:I,s:I,s:I,s:b,s:b,s:s}", "kind",
 			cause_kind_name(g[i].kind), "who",
 			g[i].who.tid || g[i].who.comm[0] ? json_who(&g[i].who, self) : json_null(),
 			"count", (json_int_t)g[i].count, "total_ns", (json_int_t)g[i].total_ns,
 			"max_ns", (json_int_t)g[i].max_ns, "inversion",
-			!!(g[i].flags & RTSUP_CAUSE_F_INVERSION), "text", text));
+			!!(g[i].flags & RTSUP_CAUSE_F_INVERSION), "idle_cpu",
+			!!(g[i].flags & RTSUP_CAUSE_F_IDLE), "text", text));
+		if (g[i].kind == RTSUP_CAUSE_BACKLOG)
+			json_object_set_new(json_array_get(a, json_array_size(a) - 1), "after",
+					    json_string(cause_kind_name(g[i].after)));
 	}
 	return a;
 }
@@ -292,6 +301,11 @@ static json_t *json_event(const struct collector *c, const struct rtsup_event *e
 			json_object_set_new(o, "syscall", json_string(syscall_name(e->arg2)));
 		else if (e->arg == RTSUP_U_MINFLT || e->arg == RTSUP_U_MAJFLT)
 			json_object_set_new(o, "count", json_integer(e->arg2));
+		else if (e->arg == RTSUP_U_MIGRATE)
+			json_object_set_new(o, "migration", json_pack("{s:o,s:i,s:s}", "from",
+				RTSUP_MIG_FROM(e->arg2) == RTSUP_MIG_NOCPU ? json_null() :
+				json_integer(RTSUP_MIG_FROM(e->arg2)), "to", RTSUP_MIG_TO(e->arg2),
+				"why", mig_why_name(RTSUP_MIG_WHY(e->arg2))));
 		break;
 	case RTSUP_EV_EXIT:
 		json_object_set_new(o, "mid_cycle", json_boolean(e->arg));
@@ -309,7 +323,8 @@ static json_t *json_event(const struct collector *c, const struct rtsup_event *e
  */
 static json_t *json_fold(const struct collector *c, const struct event_fold *f)
 {
-	static const char *const per_event[] = { "time", "cpu", "tgid", "late_ns", "cause", "count" };
+	static const char *const per_event[] = { "time", "cpu", "tgid", "late_ns", "cause", "count",
+						 "migration" };
 	struct rtsup_event e = { .ts = f->first_ts, .type = f->type, .tid = f->tid };
 	char first[40], last[40];
 	size_t i;
@@ -387,6 +402,9 @@ static json_t *json_common(const struct collector *c, const struct supervisor *s
 		json_object_set_new(su, "loop_wait_s", sp->wait_s >= 0 ? json_real(sp->wait_s) :
 				    json_null());
 		json_object_set_new(o, "health", json_health(&sv->health));
+		/* cause attribution's limit (design.md): waits it had no slot for */
+		json_object_set_new(o, "waits_not_attributed",
+				    json_integer((json_int_t)c->counters[RTSUP_C_WHY_BUSY]));
 	}
 	return o;
 }
@@ -633,6 +651,10 @@ static void table_event(const struct collector *c, const struct rtsup_event *e)
 		sys = e->arg == RTSUP_U_SYSCALL ? syscall_name(e->arg2) : NULL;
 		snprintf(what, sizeof(what), "RT-unsafe: %s%s%s", unsafe_reason_name(e->arg),
 			 sys ? " " : "", sys ? sys : "");
+		if (e->arg == RTSUP_U_MIGRATE && RTSUP_MIG_FROM(e->arg2) != RTSUP_MIG_NOCPU)
+			snprintf(what, sizeof(what), "RT-unsafe: migration CPU %u -> %u (%s)",
+				 RTSUP_MIG_FROM(e->arg2), RTSUP_MIG_TO(e->arg2),
+				 mig_why_name(RTSUP_MIG_WHY(e->arg2)));
 		break;
 	case RTSUP_EV_EXIT:
 		snprintf(what, sizeof(what), "exited%s", e->arg ? " mid-cycle" : "");
@@ -729,8 +751,7 @@ static void table_causes(const struct causes *cs, const struct thread_model *tm,
 
 	g = causes_of(cs, tm->tid, &n);
 	for (i = 0; i < n && i < 5; i++) {
-		causes_text(text, sizeof(text), g[i].kind, g[i].flags, g[i].max_ns, &g[i].who,
-			    NULL, self);
+		causes_group_text(text, sizeof(text), &g[i], self);
 		printf("    %llu miss%s: %s (max); %.3f ms in all\n",
 		       (unsigned long long)g[i].count, g[i].count == 1 ? "" : "es", text,
 		       g[i].total_ns / 1e6);

@@ -11,6 +11,12 @@
  * format wants microseconds, and a double printed by jansson shows either
  * too few digits or binary noise, so "ts" and "dur" are printed exactly as
  * ns / 1000 with three decimals and spliced in front of jansson's text.
+ *
+ * A late cycle is explained where it shows (issue 14): its miss carries
+ * its cause and parts in its args; the longest wait or preemption of that
+ * cycle is a slice on a track per CPU ("CPUs", below), named after the
+ * task that held the CPU; the longest block's wakeup is a flow arrow from
+ * a small slice on the waker's track to the target's cycle.
  */
 #include <errno.h>
 #include <stdarg.h>
@@ -34,9 +40,19 @@ struct perfetto {
 	char *path;
 	int err;		/* first error (errno), sticky */
 	unsigned long events;	/* events written: a comma before every later one */
-	__u32 *pids;		/* processes named already */
+	__u32 *pids;		/* processes named already (and CPU tracks, waker threads) */
 	size_t npids, cap;
+	unsigned long flows;	/* flow ids given */
 };
+
+/*
+ * The CPU tracks: one pseudo process "CPUs" whose threads are the CPUs.
+ * Above any pid (pid_max is at most 2^22): no real process is named so.
+ */
+#define CPU_PID		0x7ff00000U
+#define CPU_TID(cpu)	(CPU_PID + 1 + (cpu))
+/* a waker's thread named once: its tid in another key space than tgids */
+#define WAKER_KEY(tid)	(0x80000000U | (tid))
 
 static const char *const unsafe_names[RTSUP_U_NR] = {
 	[RTSUP_U_SYSCALL] = "syscall",
@@ -207,6 +223,105 @@ void perfetto_cycle(struct perfetto *p, __u32 tgid, __u32 tid, const struct rtsu
 				  (json_int_t)tid, "args", a));
 }
 
+/* cause_args - a late cycle's parts (us) and culprits in a miss's args */
+static void cause_args(json_t *a, const struct rtsup_cause *c)
+{
+	json_t *parts = json_object(), *top = json_array();
+	char w[64];
+	int i;
+
+	json_object_set_new(parts, "timer_us", json_us(c->timer_ns));
+	json_object_set_new(parts, "wait_us", json_us(c->wait_ns));
+	json_object_set_new(parts, "preempt_us", json_us(c->preempt_ns));
+	json_object_set_new(parts, "block_us", json_us(c->block_ns));
+	json_object_set_new(parts, "backlog_us", json_us(c->backlog_ns));
+	json_object_set_new(parts, "cpu_us", json_us(c->cpu_ns));
+	json_object_set_new(a, "parts", parts);
+	for (i = 0; i < RTSUP_CAUSE_TOP; i++) {
+		if (!c->top[i].ns)
+			continue;
+		cause_who_text(w, sizeof(w), &c->top[i].who, 0);
+		json_array_append_new(top, json_pack("{s:o,s:I,s:o}", "who", json_str(w, sizeof(w)),
+						     "tid", (json_int_t)c->top[i].who.tid, "us",
+						     json_us(c->top[i].ns)));
+	}
+	json_object_set_new(a, "culprits", top);
+}
+
+/*
+ * held_slice - the late cycle's longest wait (or preemption) on its CPU's
+ * track, named after the task that held the CPU longest in it (cause.h)
+ */
+static void held_slice(struct perfetto *p, const struct rtsup_event *e)
+{
+	const struct rtsup_cause *c = &e->cause;
+	const struct rtsup_who *holder = NULL;
+	char ts[32], dur[32], prefix[96], name[96], w[64], cpu[32];
+	int i;
+
+	if (c->held_to <= c->held_from)
+		return;
+	for (i = 0; i < RTSUP_CAUSE_TOP; i++)
+		if (c->top[i].ns && c->top[i].who.tid == c->held_tid)
+			holder = &c->top[i].who;
+	if (!named(p, CPU_PID))
+		emit(p, NULL, json_pack("{s:s,s:s,s:I,s:{s:s}}", "ph", "M", "name", "process_name",
+					"pid", (json_int_t)CPU_PID, "args", "name", "CPUs"));
+	if (!named(p, CPU_TID(c->held_cpu))) {
+		snprintf(cpu, sizeof(cpu), "CPU %u", c->held_cpu);
+		emit(p, NULL, json_pack("{s:s,s:s,s:I,s:I,s:{s:s}}", "ph", "M", "name",
+					"thread_name", "pid", (json_int_t)CPU_PID, "tid",
+					(json_int_t)CPU_TID(c->held_cpu), "args", "name", cpu));
+	}
+	if (holder)
+		cause_who_text(w, sizeof(w), holder, 0);
+	else
+		snprintf(w, sizeof(w), "%s", c->held_tid ? "another task" : "nothing (idle)");
+	snprintf(name, sizeof(name), "held by %s", w);
+	fmt_us(ts, sizeof(ts), c->held_from);
+	fmt_us(dur, sizeof(dur), c->held_to - c->held_from);
+	snprintf(prefix, sizeof(prefix), "\"ts\":%s,\"dur\":%s,", ts, dur);
+	emit(p, prefix, json_pack("{s:s,s:o,s:s,s:I,s:I,s:{s:I,s:o,s:I}}", "ph", "X", "name",
+				  json_str(name, sizeof(name)), "cat", "cause", "pid",
+				  (json_int_t)CPU_PID, "tid", (json_int_t)CPU_TID(c->held_cpu),
+				  "args", "waiting_tid", (json_int_t)e->tid, "waiting",
+				  json_str(e->comm, sizeof(e->comm)), "holder_tid",
+				  (json_int_t)c->held_tid));
+}
+
+/*
+ * wake_flow - the late cycle's longest block: an arrow from its waker (a
+ * 1 us slice "wakes X" on the waker's track, where the flow starts) to the
+ * target's cycle at the switch-in that ended the block
+ */
+static void wake_flow(struct perfetto *p, const struct rtsup_event *e)
+{
+	const struct rtsup_cause *c = &e->cause;
+	char ts[32], te[32], prefix[96], name[64];
+	unsigned long id;
+
+	if (!c->block_max || !c->waker.tid || !c->block_woke || c->block_ran < c->block_woke)
+		return;
+	if (!named(p, WAKER_KEY(c->waker.tid)))
+		perfetto_thread(p, c->waker.tgid, c->waker.tid, c->waker.comm, NULL);
+	id = ++p->flows;
+	snprintf(name, sizeof(name), "wakes %.15s[%u]", e->comm, e->tid);
+	fmt_us(ts, sizeof(ts), c->block_woke);
+	snprintf(prefix, sizeof(prefix), "\"ts\":%s,\"dur\":1.000,", ts);
+	emit(p, prefix, json_pack("{s:s,s:o,s:s,s:I,s:I}", "ph", "X", "name",
+				  json_str(name, sizeof(name)), "cat", "wakeup", "pid",
+				  (json_int_t)c->waker.tgid, "tid", (json_int_t)c->waker.tid));
+	snprintf(prefix, sizeof(prefix), "\"ts\":%s,", ts);
+	emit(p, prefix, json_pack("{s:s,s:s,s:s,s:I,s:I,s:I}", "ph", "s", "name", "wakeup",
+				  "cat", "wakeup", "id", (json_int_t)id, "pid",
+				  (json_int_t)c->waker.tgid, "tid", (json_int_t)c->waker.tid));
+	fmt_us(te, sizeof(te), c->block_ran);
+	snprintf(prefix, sizeof(prefix), "\"ts\":%s,", te);
+	emit(p, prefix, json_pack("{s:s,s:s,s:s,s:s,s:I,s:I,s:I}", "ph", "f", "bp", "e", "name",
+				  "wakeup", "cat", "wakeup", "id", (json_int_t)id, "pid",
+				  (json_int_t)e->tgid, "tid", (json_int_t)e->tid));
+}
+
 void perfetto_event(struct perfetto *p, const struct rtsup_event *e)
 {
 	char ts[32], prefix[64], name[64], why[200];
@@ -230,6 +345,7 @@ void perfetto_event(struct perfetto *p, const struct rtsup_event *e)
 		json_object_set_new(a, "cause", json_str(why, sizeof(why)));
 		if (e->cause.who.tid)
 			json_object_set_new(a, "culprit_tid", json_integer(e->cause.who.tid));
+		cause_args(a, &e->cause);
 		break;
 	case RTSUP_EV_UNSAFE:
 		snprintf(name, sizeof(name), "unsafe: %s",
@@ -238,7 +354,14 @@ void perfetto_event(struct perfetto *p, const struct rtsup_event *e)
 			json_object_set_new(a, "nr", json_integer((json_int_t)e->arg2));
 		else if (e->arg == RTSUP_U_MINFLT || e->arg == RTSUP_U_MAJFLT)
 			json_object_set_new(a, "count", json_integer((json_int_t)e->arg2));
-		else if (e->arg >= RTSUP_U_NR)
+		else if (e->arg == RTSUP_U_MIGRATE) {
+			if (RTSUP_MIG_FROM(e->arg2) != RTSUP_MIG_NOCPU)
+				json_object_set_new(a, "from_cpu",
+						    json_integer(RTSUP_MIG_FROM(e->arg2)));
+			json_object_set_new(a, "to_cpu", json_integer(RTSUP_MIG_TO(e->arg2)));
+			json_object_set_new(a, "why",
+					    json_string(mig_why_name(RTSUP_MIG_WHY(e->arg2))));
+		} else if (e->arg >= RTSUP_U_NR)
 			json_object_set_new(a, "reason", json_integer((json_int_t)e->arg));
 		break;
 	case RTSUP_EV_EXIT:
@@ -265,6 +388,10 @@ void perfetto_event(struct perfetto *p, const struct rtsup_event *e)
 	emit(p, prefix, json_pack("{s:s,s:s,s:s,s:I,s:I,s:o}", "ph", "i", "s", "t", "name",
 				  name, "pid", (json_int_t)e->tgid, "tid",
 				  (json_int_t)e->tid, "args", a));
+	if (e->type == RTSUP_EV_MISS) {
+		held_slice(p, e);
+		wake_flow(p, e);
+	}
 }
 
 void perfetto_stack(struct perfetto *p, __u64 ts, __u32 tgid, __u32 tid, const char *what,

@@ -436,6 +436,9 @@ static void render_self(const struct prom_in *in, struct prom_buf *b)
 	prom_family(b, "rtsup_lost_cycle_records_total", "counter",
 		    "Cycle records the recording buffer had no room for (--record, --perfetto).");
 	prom_sample(b, "rtsup_lost_cycle_records_total", in->counters[RTSUP_C_CYC_DROPS], NULL);
+	prom_family(b, "rtsup_waits_not_attributed_total", "counter",
+		    "Target waits for a CPU not attributed: other targets held its wait slots.");
+	prom_sample(b, "rtsup_waits_not_attributed_total", in->counters[RTSUP_C_WHY_BUSY], NULL);
 	/* the rest of the tool's own health (health.h) */
 	prom_family(b, "rtsup_events_not_kept_total", "counter",
 		    "Rare events the interval's list had no memory for.");

@@ -475,8 +475,9 @@ int rec_next(struct rec_reader *r, enum rec_type *type, void *buf, size_t *len,
 		r_fail(r, "record length %u over the maximum %d", l16, REC_MAX_PAYLOAD);
 		goto out;
 	}
-	/* an event recorded before it carried its cause: read with none */
-	if (l16 != want && !(t16 == REC_EVENT && l16 == REC_EVENT_NO_CAUSE)) {
+	/* an event recorded before it carried its cause, or all of it: the rest is zero */
+	if (l16 != want && !(t16 == REC_EVENT && (l16 == REC_EVENT_NO_CAUSE ||
+						  l16 == REC_EVENT_CAUSE_1))) {
 		r_fail(r, "%s record of %u bytes, expected %zu", rec_type_name(t16), l16,
 		       want);
 		goto out;

@@ -21,6 +21,9 @@
 #define REC_MAX_PAYLOAD	4096
 /* an event of a recording made before events carried their cause (issue 14) */
 #define REC_EVENT_NO_CAUSE	offsetof(struct rtsup_event, cause)
+/* and before a cause said when and where (held_from on: Perfetto), and migrations */
+#define REC_EVENT_CAUSE_1	(offsetof(struct rtsup_event, cause) + \
+				 offsetof(struct rtsup_cause, held_from))
 
 struct rec_header {
 	char kernel[128];	/* uname -r -v */

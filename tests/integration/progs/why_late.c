@@ -15,10 +15,26 @@
  *   why_late preempt CPU SECONDS
  *	"why-rt" FIFO 50, 5 ms period, 3 ms of work; "why-preemptor" FIFO 70
  *	burns 4 ms every 50 ms (so it comes inside why-rt's work).
+ *   why_late migrate CPU SECONDS
+ *	"why-rt" FIFO 50, 20 ms period, 200 us of work; every 10th cycle it
+ *	moves itself to the other CPU (CPU - 1, or 1) in the middle of its
+ *	work: sched_setaffinity to that CPU alone. "moves" lists each move as
+ *	[from, to], the CPUs it ran on before and after (sched_getcpu).
+ *   why_late machine CPU SECONDS
+ *	"why-rt" FIFO 50 alone, 20 ms period, 100 us of work: the lateness
+ *	comes from the machine (a guest its hypervisor holds: vm-test hiccups).
+ *
+ * SCALE (optional, default 1) makes every period, work, burst and hold of
+ * the mode that many times longer: for an emulated guest's slow CPUs.
  *
  * At the end one JSON line on stdout: what the program itself saw: the
  * tids, the bursts (or lock holds) done, the deadline misses why-rt saw
- * (its work ended after its next release) and the longest burst.
+ * (its work ended after its next release) and the longest burst; and how
+ * its wakeups went: "slept_misses" (cycles that slept, then missed: a late
+ * wakeup or a wait after it), "backlogs" (releases already past when it
+ * went to sleep: no sleep), "late_ns" (every wakeup 1 ms or more after its
+ * release, as it saw it after the sleep returned: its timer's lateness plus
+ * the way back to user space).
  */
 #define _GNU_SOURCE
 #include <errno.h>
@@ -40,6 +56,11 @@ static pthread_mutex_t lock;
 static volatile int rt_tid, other_tid;
 static long bursts, misses, cycles;
 static int64_t burst_max;
+#define LATE_MAX	512
+static long slept_misses, backlogs, nlate;
+static int64_t late_ns[LATE_MAX];
+static int migrate_every, moves[LATE_MAX][2];
+static long nmoves;
 
 static int64_t now_ns(void)
 {
@@ -85,6 +106,20 @@ static void sleep_until(int64_t t)
 		;
 }
 
+/* move_self - to the other CPU, inside the cycle: where it ran before and after */
+static void move_self(int *from_to)
+{
+	int other = cpu ? cpu - 1 : 1, here = sched_getcpu();
+	cpu_set_t set;
+
+	CPU_ZERO(&set);
+	CPU_SET(here == cpu ? other : cpu, &set);
+	if (sched_setaffinity(0, sizeof(set), &set))
+		die("affinity");
+	from_to[0] = here;
+	from_to[1] = sched_getcpu();
+}
+
 struct rt_args {
 	int64_t period, work;
 	int use_lock;
@@ -100,17 +135,35 @@ static void *periodic(void *p)
 	rt_tid = gettid();
 	next = now_ns() + a->period;
 	while (next < end_ns) {
+		int64_t t = now_ns();
+		int slept = t < next;
+
+		/* a release already past returns at once: the tracer sees it so */
 		sleep_until(next);
+		if (slept) {
+			t = now_ns() - next;
+			if (t >= 1 * MS && nlate < LATE_MAX)
+				late_ns[nlate++] = t;
+		} else {
+			backlogs++;
+		}
 		if (a->use_lock)
 			pthread_mutex_lock(&lock);
+		if (migrate_every && cycles % migrate_every == migrate_every - 1 &&
+		    nmoves < LATE_MAX) {
+			burn_until(now_ns() + a->work / 2);
+			move_self(&moves[nmoves++][0]);
+		}
 		burn_until(now_ns() + a->work);
 		if (a->use_lock)
 			pthread_mutex_unlock(&lock);
 		next += a->period;
 		cycles++;
 		/* as the tracer judges: the next release is past at the sleep */
-		if (now_ns() >= next)
+		if (now_ns() >= next) {
 			misses++;
+			slept_misses += slept;
+		}
 	}
 	return NULL;
 }
@@ -155,9 +208,12 @@ int main(int argc, char **argv)
 	pthread_mutexattr_t ma;
 	pthread_t a, b;
 	const char *mode;
+	pthread_attr_t attr;
+	cpu_set_t set;
+	int alone;
 
-	if (argc != 4) {
-		fprintf(stderr, "usage: why_late hog|mutex|pi|preempt|alone CPU SECONDS\n");
+	if (argc != 4 && argc != 5) {
+		fprintf(stderr, "usage: why_late hog|mutex|pi|preempt|alone|machine|migrate CPU SECONDS [SCALE]\n");
 		return 1;
 	}
 	mode = argv[1];
@@ -174,21 +230,47 @@ int main(int argc, char **argv)
 	} else if (!strcmp(mode, "preempt")) {
 		ra = (struct rt_args){ 5 * MS, 3 * MS, 0 };
 		oa = (struct other_args){ "why-preemptor", 70, 50 * MS, 4 * MS, 0 };
+	} else if (!strcmp(mode, "migrate")) {
+		ra = (struct rt_args){ 20 * MS, 200000, 0 };
+		migrate_every = 10;
+	} else if (!strcmp(mode, "machine")) {
+		ra = (struct rt_args){ 20 * MS, 100000, 0 };
 	} else if (strcmp(mode, "hog") && strcmp(mode, "alone")) {
 		fprintf(stderr, "why_late: %s: unknown mode\n", mode);
 		return 1;
 	}
+	/* SCALE: every time of the mode that many times longer (an emulated guest) */
+	if (argc == 5 && atoi(argv[4]) > 1) {
+		ra.period *= atoi(argv[4]);
+		ra.work *= atoi(argv[4]);
+		oa.every *= atoi(argv[4]);
+		oa.burn *= atoi(argv[4]);
+	}
 	pthread_mutex_init(&lock, &ma);
 	srand(1);
-	if (pthread_create(&a, NULL, periodic, &ra))
+	/* born on their CPU: no migration of their start-up counts as one of the test's */
+	CPU_ZERO(&set);
+	CPU_SET(cpu, &set);
+	pthread_attr_init(&attr);
+	if (pthread_attr_setaffinity_np(&attr, sizeof(set), &set))
+		die("affinity");
+	if (pthread_create(&a, &attr, periodic, &ra))
 		die("pthread_create");
-	if (strcmp(mode, "alone") && pthread_create(&b, NULL, other, &oa))
+	alone = !strcmp(mode, "alone") || !strcmp(mode, "machine") || migrate_every;
+	if (!alone && pthread_create(&b, &attr, other, &oa))
 		die("pthread_create");
 	pthread_join(a, NULL);
-	if (strcmp(mode, "alone"))
+	if (!alone)
 		pthread_join(b, NULL);
 	printf("{\"pid\": %d, \"rt_tid\": %d, \"other_tid\": %d, \"other\": \"%s\", \"prio\": %d, "
-	       "\"bursts\": %ld, \"burst_max_ns\": %lld, \"cycles\": %ld, \"misses\": %ld}\n",
+	       "\"bursts\": %ld, \"burst_max_ns\": %lld, \"cycles\": %ld, \"misses\": %ld, ",
 	       getpid(), rt_tid, other_tid, oa.name, oa.prio, bursts, (long long)burst_max, cycles, misses);
+	printf("\"slept_misses\": %ld, \"backlogs\": %ld, \"late_ns\": [", slept_misses, backlogs);
+	for (long i = 0; i < nlate; i++)
+		printf("%s%lld", i ? ", " : "", (long long)late_ns[i]);
+	printf("], \"moves\": [");
+	for (long i = 0; i < nmoves; i++)
+		printf("%s[%d, %d]", i ? ", " : "", moves[i][0], moves[i][1]);
+	printf("]}\n");
 	return 0;
 }

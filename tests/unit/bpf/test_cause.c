@@ -74,7 +74,7 @@ static void settle(struct fx *f)
 
 	for (i = 0; i < WHY_WAITERS; i++)
 		if (f->s[i].tid == RT && (f->s[i].state & WHY_RAN)) {
-			why_take(&f->w, &f->cs, &f->s[i]);
+			why_take(&f->w, &f->cs, &f->s[i], 1);
 			f->s[i].tid = 0;
 		}
 }
@@ -177,6 +177,151 @@ static void test_cause_timer_on_idle_cpu(void **state)
 	assert_true(f.w.out.flags & RTSUP_CAUSE_F_IDLE);
 	assert_int_equal(f.w.out.who.tid, 0);
 	assert_int_equal(f.w.out.who.comm[0], '\0');
+}
+
+/*
+ * the releases a late cycle swallowed: the next sleep asks for a time
+ * already past, and the kernel still goes through its timer, which fires
+ * at once (a wakeup 7 us after the delimiter's entry). That cycle is late
+ * for its backlog, not for its timer: only the 7 us are the timer's.
+ */
+static void test_cause_backlog_sleep_is_no_timer(void **state)
+{
+	struct fx f;
+
+	fx_init(&f);
+	f.cs.in_delim = 1;
+	f.cs.expected = 10 * MS;
+	wake(&f, 12 * MS);
+	sw(&f, 12 * MS + 3 * US, &target);
+	settle(&f);
+	/* it ends at 12.103 ms, its next release was 11 ms: it enters the sleep late */
+	why_delim(&f.w, CYC_EV_CLOSED | CYC_EV_MISS, 100 * US, 1 * MS, 12 * MS + 103 * US,
+		  11 * MS);
+	assert_int_equal(f.w.out.kind, RTSUP_CAUSE_TIMER);
+	assert_int_equal(f.w.cur.backlog_ns, 1103 * US);
+	f.cs.expected = 11 * MS;
+	sw(&f, 12 * MS + 105 * US, &idle);
+	wake(&f, 12 * MS + 110 * US);
+	sw(&f, 12 * MS + 113 * US, &target);
+	settle(&f);
+	assert_int_equal(f.w.cur.timer_ns, 7 * US);
+	/* 100 us of work, past its next release (12 ms) again */
+	why_delim(&f.w, CYC_EV_CLOSED | CYC_EV_MISS, 100 * US, 1 * MS, 12 * MS + 213 * US,
+		  12 * MS);
+	assert_int_equal(f.w.out.kind, RTSUP_CAUSE_BACKLOG);
+	assert_int_equal(f.w.out.ns, 1103 * US);
+	assert_int_equal(f.w.out.timer_ns, 7 * US);
+	assert_int_equal(f.w.out.who.tid, 0);
+	/* it follows the timer's late cycle, and so does the next of the chain */
+	assert_int_equal(f.w.out.after, RTSUP_CAUSE_TIMER);
+	assert_int_equal(f.w.cur.after, RTSUP_CAUSE_TIMER);
+}
+
+/*
+ * where and when for Perfetto: the longest wait of the cycle (its window,
+ * CPU and holder), the longest block's wakeup and the switch-in after it
+ */
+static void test_cause_longest_wait_and_wake_times(void **state)
+{
+	struct fx f;
+
+	fx_init(&f);
+	f.cs.in_delim = 1;
+	f.cs.expected = 10 * MS;
+	sw(&f, 9 * MS, &hog);
+	wake(&f, 10 * MS);
+	sw(&f, 11 * MS, &target);	/* 1 ms behind the hog */
+	settle(&f);
+	assert_int_equal(f.w.cur.held_from, 10 * MS);
+	assert_int_equal(f.w.cur.held_to, 11 * MS);
+	assert_int_equal(f.w.cur.held_cpu, 1);
+	assert_int_equal(f.w.cur.held_tid, 812);
+	/* in the cycle: it blocks, the owner wakes it, it runs 10 us later */
+	f.cs.in_delim = 0;
+	f.cs.start = 11 * MS;
+	why_syscall(&f.w, 202, 0 + 1);
+	why_switch_out(&f.w, &f.cs, 11 * MS + 100 * US, 1, 1);
+	sw(&f, 11 * MS + 100 * US, &owner);
+	wake(&f, 13 * MS);
+	sw(&f, 13 * MS + 10 * US, &target);
+	settle(&f);
+	assert_int_equal(f.w.cur.block_woke, 13 * MS);
+	assert_int_equal(f.w.cur.block_ran, 13 * MS + 10 * US);
+	assert_int_equal(f.w.cur.waker.tid, 900);
+	/* a shorter wait does not replace the longest */
+	assert_int_equal(f.w.cur.held_from, 10 * MS);
+	assert_int_equal(f.w.cur.held_tid, 812);
+	why_reset(&f.w.cur);
+	assert_int_equal(f.w.cur.held_to - f.w.cur.held_from, 0);
+}
+
+/*
+ * sched_migrate_task: why, as the kernel tells; the switch-in on the new
+ * CPU inside the cycle takes it into the cycle's cause and the event
+ */
+static void test_cause_migration_why(void **state)
+{
+	struct fx f;
+	__u64 arg;
+
+	fx_init(&f);
+	why_migrate(&f.w, 0, 1, 0, 0);
+	assert_int_equal(f.w.mig_why, RTSUP_MIG_AFFINITY);
+	why_migrate(&f.w, 0, 1, 1, 1);
+	assert_int_equal(f.w.mig_why, RTSUP_MIG_WAKEUP);
+	why_migrate(&f.w, 2, 3, 0, 1);
+	assert_int_equal(f.w.mig_why, RTSUP_MIG_BALANCE);
+	arg = why_migrated(&f.w, 3);
+	assert_int_equal(RTSUP_MIG_FROM(arg), 2);
+	assert_int_equal(RTSUP_MIG_TO(arg), 3);
+	assert_int_equal(RTSUP_MIG_WHY(arg), RTSUP_MIG_BALANCE);
+	assert_int_equal(f.w.cur.migrations, 1);
+	assert_int_equal(f.w.cur.mig_from, 2);
+	/* taken: a second switch-in elsewhere that the hook did not see is unknown */
+	arg = why_migrated(&f.w, 0);
+	assert_int_equal(RTSUP_MIG_FROM(arg), RTSUP_MIG_NOCPU);
+	assert_int_equal(RTSUP_MIG_WHY(arg), RTSUP_MIG_UNKNOWN);
+	assert_int_equal(f.w.cur.migrations, 2);
+	/* a record for another CPU is not this migration's */
+	why_migrate(&f.w, 0, 1, 0, 1);
+	arg = why_migrated(&f.w, 2);
+	assert_int_equal(RTSUP_MIG_WHY(arg), RTSUP_MIG_UNKNOWN);
+	why_reset(&f.w.cur);
+	assert_int_equal(f.w.cur.migrations, 0);
+}
+
+/*
+ * a target woken on CPU 0 and moved to CPU 1 before it ran: its wait goes
+ * on at CPU 1 from its wakeup, CPU 0's slot is free (it charged CPU 0's
+ * switches until stale before)
+ */
+static void test_cause_wait_moves_with_the_target(void **state)
+{
+	struct fx a, b;
+
+	fx_init(&a);
+	fx_init(&b);
+	a.cs.in_delim = 1;
+	a.cs.expected = 10 * MS;
+	sw(&a, 9 * MS, &hog);
+	wake(&a, 10 * MS);
+	sw(&b, 9 * MS, &boss);
+	assert_int_equal(why_move(a.s, b.s, RT, 10 * MS + 100 * US), 1);
+	assert_int_equal(a.s[0].tid, 0);
+	assert_int_equal(b.s[0].tid, RT);
+	assert_int_equal(b.s[0].armed, 10 * MS);
+	assert_int_equal(b.s[0].since, 10 * MS + 100 * US);
+	/* boss holds CPU 1 until 12 ms: the wait is 2 ms, boss its holder */
+	sw(&b, 12 * MS, &target);
+	b.w = a.w;
+	b.cs = a.cs;
+	settle(&b);
+	assert_int_equal(b.w.cur.wait_ns, 2 * MS);
+	assert_int_equal(b.w.cur.top[0].who.tid, 901);
+	assert_int_equal(b.w.cur.top[0].ns, 1900 * US);
+	/* nothing to move: no wait of it there */
+	assert_int_equal(why_move(a.s, b.s, RT, 13 * MS), 0);
 }
 
 /* preempted twice inside the cycle: the longest holder first, sums kept */
@@ -286,6 +431,10 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_cause_wait_behind_hog),
 		cmocka_unit_test(test_cause_timer_on_idle_cpu),
+		cmocka_unit_test(test_cause_backlog_sleep_is_no_timer),
+		cmocka_unit_test(test_cause_longest_wait_and_wake_times),
+		cmocka_unit_test(test_cause_migration_why),
+		cmocka_unit_test(test_cause_wait_moves_with_the_target),
 		cmocka_unit_test(test_cause_holder_below_target),
 		cmocka_unit_test(test_cause_preemptions_summed),
 		cmocka_unit_test(test_cause_block_inversion),

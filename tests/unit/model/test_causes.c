@@ -116,12 +116,60 @@ static void test_causes_to_model(void **state)
 	causes_free(&life);
 }
 
+/*
+ * a hypervisor's late wakeups and the releases they swallowed: the
+ * backlogs behind no task say what they follow, group apart by it, and
+ * count with the late wakeups in the verdict
+ */
+static void test_causes_backlog_after_the_machine(void **state)
+{
+	struct causes cs = { 0 };
+	struct rtsup_cause t = cause(RTSUP_CAUSE_TIMER, 0, "", 90 * MS);
+	struct rtsup_cause b = cause(RTSUP_CAUSE_BACKLOG, 0, "", 60 * MS);
+	struct rtsup_cause e = cause(RTSUP_CAUSE_BACKLOG, 0, "", 1 * MS);
+	const struct cause_group *g;
+	struct thread_model tm;
+	struct model m;
+	char buf[200];
+	size_t n;
+	int i;
+
+	b.after = RTSUP_CAUSE_TIMER;
+	e.after = RTSUP_CAUSE_EXEC;
+	causes_add(&cs, 100, &t);
+	for (i = 0; i < 4; i++)
+		causes_add(&cs, 100, &b);
+	causes_add(&cs, 100, &e);
+	causes_sort(&cs);
+	g = causes_of(&cs, 100, &n);
+	assert_int_equal(n, 3);
+	assert_int_equal(g[0].kind, RTSUP_CAUSE_BACKLOG);
+	assert_int_equal(g[0].after, RTSUP_CAUSE_TIMER);
+	assert_int_equal(g[0].count, 4);
+	causes_group_text(buf, sizeof(buf), &g[0], 0);
+	assert_string_equal(buf, "released 60.000 ms late: the cycle before ended late "
+				 "(machine / timer latency)");
+	causes_group_text(buf, sizeof(buf), &g[2], 0);
+	assert_string_equal(buf, "released 1.000 ms late: the cycle before ended late "
+				 "(its own CPU time)");
+	memset(&m, 0, sizeof(m));
+	memset(&tm, 0, sizeof(tm));
+	tm.tid = 100;
+	m.t = &tm;
+	m.n = 1;
+	causes_to_model(&cs, &cs, &m);
+	/* the timer's 1 and the 4 backlogs after it; not the one after its own CPU time */
+	assert_string_equal(tm.why_win, "5 caused by machine / timer latency (90.0 ms max)");
+	causes_free(&cs);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_causes_grouped_by_thread_kind_culprit),
 		cmocka_unit_test(test_causes_text),
 		cmocka_unit_test(test_causes_to_model),
+		cmocka_unit_test(test_causes_backlog_after_the_machine),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

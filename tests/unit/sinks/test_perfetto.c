@@ -487,12 +487,99 @@ static void test_perfetto_null(void **state)
 	assert_int_equal(perfetto_close(NULL, NULL, 0), 0);
 }
 
+/*
+ * a late cycle explained where it happened: its longest wait on its CPU's
+ * track, named after its holder; its longest block's wakeup a flow from a
+ * slice on the waker's track to the woken thread; its migration on the
+ * migration event. Twice: the CPU track and the waker are named once.
+ */
+static void test_perfetto_cause_slices_and_flow(void **state)
+{
+	struct fx *f = *state;
+	struct perfetto *p;
+	struct rtsup_event e;
+	char err[ERRLEN];
+	json_t *root, *ev, *x, *a;
+	int k;
+
+	assert_int_equal(perfetto_open(&p, f->path, err, sizeof(err)), 0);
+	for (k = 0; k < 2; k++) {
+		e = mkev(RTSUP_EV_MISS, 20000000 + k * 1000000ULL, 3100000, 0);
+		e.cause.kind = RTSUP_CAUSE_BLOCK;
+		e.cause.ns = 2000000;
+		e.cause.block_max = 2000000;
+		e.cause.block_op = 1;
+		e.cause.waker = (struct rtsup_who){ .tid = 900, .tgid = 899, .policy = 1,
+						    .prio = 10, .comm = "owner" };
+		e.cause.who = e.cause.waker;
+		e.cause.block_woke = 15000000 + k * 1000000ULL;
+		e.cause.block_ran = 15010000 + k * 1000000ULL;
+		e.cause.held_from = 12000000 + k * 1000000ULL;
+		e.cause.held_to = 13000000 + k * 1000000ULL;
+		e.cause.held_cpu = 2;
+		e.cause.held_tid = 812;
+		e.cause.top[0] = (struct rtsup_culprit){ .who = { .tid = 812, .tgid = 812,
+				.policy = 1, .prio = 99, .comm = "hog" }, .ns = 1000000, .count = 1 };
+		perfetto_event(p, &e);
+	}
+	e = mkev(RTSUP_EV_UNSAFE, 30000000, RTSUP_U_MIGRATE, RTSUP_MIG_ARG(0, 1, RTSUP_MIG_AFFINITY));
+	perfetto_event(p, &e);
+	assert_int_equal(perfetto_close(p, err, sizeof(err)), 0);
+	root = load(f->path, &ev);
+
+	/* the miss: its parts and culprits in its args */
+	x = find(ev, "i", "deadline miss", 0);
+	a = json_object_get(x, "args");
+	assert_string_equal(sget(a, "kind"), "block");
+	assert_num(json_object_get(a, "parts"), "block_us", 0);
+	assert_string_equal(sget(json_array_get(json_object_get(a, "culprits"), 0), "who"),
+			    "hog[812] FIFO/99");
+	/* the CPU track, named once: process "CPUs", thread "CPU 2" */
+	assert_int_equal(count(ev, "M", "process_name"), 1);
+	x = find(ev, "M", "process_name", 0);
+	assert_string_equal(sget(json_object_get(x, "args"), "name"), "CPUs");
+	x = find(ev, "X", "held by hog[812] FIFO/99", 1);
+	assert_non_null(x);
+	assert_num(x, "ts", 13000.0);
+	assert_num(x, "dur", 1000.0);
+	assert_int_equal(iget(json_object_get(x, "args"), "waiting_tid"), 101);
+	assert_int_equal(iget(x, "tid"), iget(find(ev, "M", "thread_name", 0), "tid"));
+	assert_string_equal(sget(json_object_get(find(ev, "M", "thread_name", 0), "args"), "name"),
+			    "CPU 2");
+	/* the waker's track named once, its slice, the flow to the woken thread */
+	assert_int_equal(count(ev, "M", "thread_name"), 2);
+	x = find(ev, "M", "thread_name", 1);
+	assert_int_equal(iget(x, "tid"), 900);
+	assert_string_equal(sget(json_object_get(x, "args"), "name"), "owner");
+	x = find(ev, "X", "wakes ctl[101]", 0);
+	assert_int_equal(iget(x, "tid"), 900);
+	assert_num(x, "ts", 15000.0);
+	x = find(ev, "s", "wakeup", 1);
+	assert_int_equal(iget(x, "tid"), 900);
+	assert_int_equal(iget(x, "pid"), 899);
+	assert_num(x, "ts", 16000.0);
+	a = find(ev, "f", "wakeup", 1);
+	assert_int_equal(iget(a, "id"), iget(x, "id"));
+	assert_int_equal(iget(a, "tid"), 101);
+	assert_string_equal(sget(a, "bp"), "e");
+	assert_num(a, "ts", 16010.0);
+	assert_int_not_equal(iget(a, "id"), iget(find(ev, "f", "wakeup", 0), "id"));
+	/* the migration: from, to, why */
+	x = find(ev, "i", "unsafe: migration", 0);
+	a = json_object_get(x, "args");
+	assert_int_equal(iget(a, "from_cpu"), 0);
+	assert_int_equal(iget(a, "to_cpu"), 1);
+	assert_string_equal(sget(a, "why"), "affinity");
+	json_decref(root);
+}
+
 #define T(fn) cmocka_unit_test_setup_teardown(fn, fx_setup, fx_teardown)
 
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		T(test_perfetto_structure),
+		T(test_perfetto_cause_slices_and_flow),
 		T(test_perfetto_lines),
 		T(test_perfetto_escape),
 		T(test_perfetto_empty),

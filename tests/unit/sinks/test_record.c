@@ -619,12 +619,17 @@ static void test_record_size_mismatch(void **state)
 	free(b);
 }
 
-/* an event recorded before events carried a cause: read, with no cause */
-static void test_record_event_without_cause(void **state)
+/*
+ * an event recorded before events carried a cause (len REC_EVENT_NO_CAUSE),
+ * or before a cause said when and where (REC_EVENT_CAUSE_1): read, the
+ * rest zero
+ */
+static void old_event(void **state, __u16 len)
 {
 	unsigned char payload_buf[REC_MAX_PAYLOAD], *b;
-	struct rtsup_event e = { .ts = 5, .type = RTSUP_EV_MISS, .tid = 7, .arg = 42 };
-	__u16 t = REC_EVENT, len = REC_EVENT_NO_CAUSE;
+	struct rtsup_event e = { .ts = 5, .type = RTSUP_EV_MISS, .tid = 7, .arg = 42,
+				 .cause = { .kind = RTSUP_CAUSE_TIMER, .held_to = 9 } };
+	__u16 t = REC_EVENT;
 	struct fx *f = *state;
 	struct rec_reader *r;
 	struct rec_header h;
@@ -656,11 +661,19 @@ static void test_record_event_without_cause(void **state)
 	memcpy(&e, payload_buf, sizeof(e));
 	assert_int_equal(e.tid, 7);
 	assert_int_equal(e.arg, 42);
-	assert_int_equal(e.cause.kind, RTSUP_CAUSE_NONE);
+	assert_int_equal(e.cause.kind, len == REC_EVENT_NO_CAUSE ? RTSUP_CAUSE_NONE :
+				       RTSUP_CAUSE_TIMER);
 	assert_int_equal(e.cause.who.tid, 0);
+	assert_int_equal(e.cause.held_to, 0);
 	assert_int_equal(n, 1);
 	rec_free(r);
 	free(h.config_text);
+}
+
+static void test_record_event_without_cause(void **state)
+{
+	old_event(state, REC_EVENT_NO_CAUSE);
+	old_event(state, REC_EVENT_CAUSE_1);
 }
 
 /* headers that are cut, too long, not JSON, not an object, mistyped */
