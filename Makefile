@@ -186,7 +186,7 @@ $(OUT)/progs32/%: tests/integration/progs/%.c
 # Unit tests: plain C from include/ and user/, no kernel, no root.
 # the configuration module: user/config/ but actionspec.c (docs/design.md)
 CONFIG_SRCS := user/config/config.c user/config/yamlwalk.c user/config/values.c \
-	user/config/canconfig.c user/config/print.c
+	user/config/canconfig.c user/config/print.c user/config/stackopt.c
 UNIT_DEPS_test_model  := user/model/model.c
 UNIT_DEPS_test_eventlog := user/model/eventlog.c
 UNIT_DEPS_test_causes := user/model/causes.c user/model/syscalls.c
@@ -209,6 +209,8 @@ UNIT_LIBS_test_actions := -ljansson -lyaml
 UNIT_DEPS_test_targets := user/collect/targets.c
 UNIT_DEPS_test_pidns := user/collect/pidns.c
 UNIT_DEPS_test_procmaps := user/collect/procmaps.c
+UNIT_DEPS_test_fpcheck := user/collect/fpcheck.c
+UNIT_LIBS_test_fpcheck := -ldw -lelf
 UNIT_DEPS_test_stackagg := user/model/stackagg.c
 UNIT_DEPS_test_candump := user/offline/candump.c
 UNIT_DEPS_test_prom := user/sinks/prom.c user/model/model.c user/judge/status.c user/model/syscalls.c
