@@ -23,7 +23,8 @@ UNIT_RUN ?=
 PROGS32  := $(OUT)/progs32/abi32_loop
 # test_where.py's programs: where_loop.c makes its own syscall in x86 asm
 WHERE_PROGS := $(OUT)/progs/where_loop_fp $(OUT)/progs/where_loop_dwarf \
-	$(OUT)/progs/where_loop_lib $(OUT)/progs/where_cpp
+	$(OUT)/progs/where_loop_lib $(OUT)/progs/where_cpp $(OUT)/progs/where_nolibc \
+	$(OUT)/progs/where_vdso $(OUT)/progs/where_vdso_fp
 
 ifneq ($(ARCH),$(HOST_ARCH))
 include cross.mk
@@ -169,6 +170,25 @@ $(OUT)/progs/where_loop_lib: tests/integration/progs/where_loop.c $(OUT)/progs/l
 	@mkdir -p $(@D)
 	$(call msg,CC,$@)
 	$(Q)$(CC) -O2 -g -DWHERE_LIB $(WARN) $< -L$(OUT)/progs -lwhere -Wl,-rpath,'$$ORIGIN' \
+		-lpthread -o $@
+
+# --stacks auto's fp case: no C library, frame pointers, static (x86 asm)
+$(OUT)/progs/where_nolibc: tests/integration/progs/where_nolibc.c
+	@mkdir -p $(@D)
+	$(call msg,CC,$@)
+	$(Q)$(CC) -O2 -g -fno-omit-frame-pointer -mno-omit-leaf-frame-pointer -static -nostdlib \
+		-ffreestanding -fno-stack-protector -fno-pie -no-pie $(WARN) $< -o $@
+
+$(OUT)/progs/where_vdso: tests/integration/progs/where_vdso.c
+	@mkdir -p $(@D)
+	$(call msg,CC,$@)
+	$(Q)$(CC) -O2 -g $(WARN) $< -lpthread -o $@
+
+# --stacks auto's DWARF case: the program keeps frame pointers, glibc does not
+$(OUT)/progs/where_vdso_fp: tests/integration/progs/where_vdso.c
+	@mkdir -p $(@D)
+	$(call msg,CC,$@)
+	$(Q)$(CC) -O2 -g -fno-omit-frame-pointer -mno-omit-leaf-frame-pointer $(WARN) $< \
 		-lpthread -o $@
 
 # the C++ case: a member function in a namespace, -O2 -g without frame pointers

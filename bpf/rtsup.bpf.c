@@ -466,11 +466,16 @@ static __always_inline __u64 copy_regs(__u64 *out, struct pt_regs *kregs)
  */
 static __always_inline __u32 dump_stack(void *dst, __u64 sp, __u32 size)
 {
-	__u32 i, len = stack_dump_size(size, cfg_stack_size_max);
+	/* 64 bits: a 32-bit value's zero-extension would lose the bound checked below */
+	__u64 len = stack_dump_size(size, cfg_stack_size_max);
+	__u32 i;
 
-	for (i = 0; i < 5; i++, len >>= 1)
-		if (len && !bpf_probe_read_user(dst, len, (void *)sp))
+	for (i = 0; i < 5; i++, len >>= 1) {
+		/* the bound again, on the register passed: the verifier's proof of the room */
+		barrier_var(len);
+		if (len && len <= cfg_stack_size_max && !bpf_probe_read_user(dst, len, (void *)sp))
 			return len;
+	}
 	return 0;
 }
 
@@ -488,6 +493,68 @@ static __always_inline struct rtsup_stack_cfg stack_choice(const struct rtsup_th
 	return c;
 }
 
+/* stack_rec_head - a stack record's header; the task is the current one */
+static __always_inline void stack_rec_head(struct rtsup_stack_rec *r, const struct rtsup_thread *t,
+					   struct task_struct *task, __u64 now, __u32 reason,
+					   __u32 nr, __u32 kind)
+{
+	r->ts = now;
+	r->tid = t->tid;
+	r->tgid = t->tgid;
+	r->reason = reason;
+	r->nr = nr;
+	r->kind = kind;
+	r->nips = 0;
+	r->dump_len = 0;
+	r->sp = 0;
+	r->exec_id = BPF_CORE_READ(task, self_exec_id);
+}
+
+/*
+ * capture_dwarf, capture_fp - one record of each kind, each with its own
+ * reservation (its size must be a constant: every DWARF record has the
+ * largest room), so that the verifier sees the room where it is used
+ */
+static __always_inline void capture_dwarf(const struct rtsup_thread *t, __u64 now, __u32 reason,
+					  __u32 nr, __u32 size)
+{
+	struct task_struct *task = bpf_get_current_task_btf();
+	struct rtsup_stack_rec *r;
+
+	r = bpf_ringbuf_reserve(&stacks, sizeof(*r) + cfg_stack_size_max, 0);
+	if (!r) {
+		count_stk(RTSUP_STK_LOST);
+		return;
+	}
+	stack_rec_head(r, t, task, now, reason, nr, RTSUP_STACKS_DWARF);
+	r->sp = copy_regs(r->regs, (struct pt_regs *)bpf_task_pt_regs(task));
+	if (r->sp)
+		r->dump_len = dump_stack(r + 1, r->sp, size);
+	if (!r->dump_len)
+		count_stk(RTSUP_STK_NO_STACK);
+	bpf_ringbuf_submit(r, 0);
+}
+
+static __always_inline void capture_fp(const struct rtsup_thread *t, __u64 now, __u32 reason,
+				       __u32 nr)
+{
+	struct task_struct *task = bpf_get_current_task_btf();
+	struct rtsup_stack_rec *r;
+	long n;
+
+	r = bpf_ringbuf_reserve(&stacks, sizeof(*r), 0);
+	if (!r) {
+		count_stk(RTSUP_STK_LOST);
+		return;
+	}
+	stack_rec_head(r, t, task, now, reason, nr, RTSUP_STACKS_FP);
+	n = bpf_get_task_stack(task, r->ips, sizeof(r->ips), BPF_F_USER_STACK);
+	r->nips = n > 0 ? n / sizeof(__u64) : 0;
+	if (!r->nips)
+		count_stk(RTSUP_STK_NO_STACK);
+	bpf_ringbuf_submit(r, 0);
+}
+
 /*
  * capture_stack - the current target's user stack at an RT-unsafe event.
  * Only here, never on a clean cycle's path; beyond the thread's budget in
@@ -496,10 +563,7 @@ static __always_inline struct rtsup_stack_cfg stack_choice(const struct rtsup_th
 static __always_inline void capture_stack(struct rtsup_thread *t, __u64 now, __u32 reason,
 					  __u32 nr)
 {
-	struct task_struct *task;
-	struct rtsup_stack_rec *r;
 	struct rtsup_stack_cfg sc;
-	long n;
 
 	if (!cfg_stack_any)
 		return;
@@ -510,39 +574,10 @@ static __always_inline void capture_stack(struct rtsup_thread *t, __u64 now, __u
 		count_stk(RTSUP_STK_OVER_BUDGET);
 		return;
 	}
-	/* the reserved size must be a constant: every DWARF record has the largest room */
 	if (sc.kind == RTSUP_STACKS_DWARF)
-		r = bpf_ringbuf_reserve(&stacks, sizeof(*r) + cfg_stack_size_max, 0);
+		capture_dwarf(t, now, reason, nr, sc.size);
 	else
-		r = bpf_ringbuf_reserve(&stacks, sizeof(*r), 0);
-	if (!r) {
-		count_stk(RTSUP_STK_LOST);
-		return;
-	}
-	r->ts = now;
-	r->tid = t->tid;
-	r->tgid = t->tgid;
-	r->reason = reason;
-	r->nr = nr;
-	r->kind = sc.kind;
-	r->nips = 0;
-	r->dump_len = 0;
-	r->sp = 0;
-	task = bpf_get_current_task_btf();
-	r->exec_id = BPF_CORE_READ(task, self_exec_id);
-	if (sc.kind == RTSUP_STACKS_DWARF) {
-		r->sp = copy_regs(r->regs, (struct pt_regs *)bpf_task_pt_regs(task));
-		if (r->sp)
-			r->dump_len = dump_stack(r + 1, r->sp, sc.size);
-		if (!r->dump_len)
-			count_stk(RTSUP_STK_NO_STACK);
-	} else {
-		n = bpf_get_task_stack(task, r->ips, sizeof(r->ips), BPF_F_USER_STACK);
-		r->nips = n > 0 ? n / sizeof(__u64) : 0;
-		if (!r->nips)
-			count_stk(RTSUP_STK_NO_STACK);
-	}
-	bpf_ringbuf_submit(r, 0);
+		capture_fp(t, now, reason, nr);
 }
 
 /* emit_miss - a deadline miss with its cause (why_delim) */
