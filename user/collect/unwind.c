@@ -77,6 +77,7 @@ static struct {
 	enum fp_verdict v;
 } fpcache[FPCACHE_SIZE];
 static int fpcache_n;
+static bool verdicts_pending;	/* some process has a verdict not taken yet */
 
 static char *debuginfo_path;	/* NULL: libdwfl's default, .debug and /usr/lib/debug */
 
@@ -248,6 +249,7 @@ static void uproc_judge_fp(struct uproc *p)
 	if (kind != p->verdict) {
 		p->verdict = kind;
 		p->verdict_new = true;
+		verdicts_pending = true;
 	}
 }
 
@@ -399,6 +401,10 @@ void unwind_take_verdicts(struct unwinder *u, void (*fn)(void *ctx, __u32 tgid, 
 {
 	int i;
 
+	/* called at every stack record: nothing to look at, most of the time */
+	if (!verdicts_pending)
+		return;
+	verdicts_pending = false;
 	for (i = 0; i < u->n; i++)
 		if (u->p[i].verdict_new) {
 			u->p[i].verdict_new = false;
