@@ -100,7 +100,7 @@ static int load_config(const struct options *o, const char *path, struct config 
 			r->ewma_weight = (double)o->ewma_w / RTSUP_EWMA_ONE;
 		if (o->period_given && (i < 0 || !(r->set & RF_PERIOD)))
 			r->period_ns = o->period_ns;
-		/* a rule's stacks: win over --stacks for its threads (the brief of issue 15) */
+		/* a rule's stacks: win over --stacks for its threads (docs/config.md) */
 		if (o->stacks_given && (i < 0 || !(r->set & RF_STACKS)))
 			r->stacks = o->stacks;
 		if (o->stack_size_given && (i < 0 || !(r->set & RF_STACK_SIZE)))
