@@ -196,18 +196,27 @@ static int uproc_set_maps(struct uproc *p, struct procmap *maps, int n)
 	return p->flags && p->bids ? 0 : -ENOMEM;
 }
 
-/* module_fp - fp_elf_check of one module, once per build-id */
-static enum fp_verdict module_fp(Dwfl_Module *m)
+/* module_bid - a libdwfl module's build-id, hex; "" if none */
+static void module_bid(Dwfl_Module *m, char *hex, size_t len)
 {
 	const unsigned char *id;
 	GElf_Addr vaddr;
-	Dwarf_Addr bias;
-	char bid[48] = "";
-	enum fp_verdict v;
 	int i, n = dwfl_module_build_id(m, &id, &vaddr);
 
-	for (i = 0; i < n && i < 20; i++)
-		snprintf(bid + i * 2, 3, "%02x", id[i]);
+	hex[0] = '\0';
+	for (i = 0; i < n && (size_t)(i * 2 + 2) < len; i++)
+		snprintf(hex + i * 2, 3, "%02x", id[i]);
+}
+
+/* module_fp - fp_elf_check of one module, once per build-id */
+static enum fp_verdict module_fp(Dwfl_Module *m)
+{
+	Dwarf_Addr bias;
+	char bid[48];
+	enum fp_verdict v;
+	int i;
+
+	module_bid(m, bid, sizeof(bid));
 	for (i = 0; bid[0] && i < fpcache_n; i++)
 		if (!strcmp(fpcache[i].bid, bid))
 			return fpcache[i].v;
@@ -262,6 +271,7 @@ static void uproc_judge_fp(struct uproc *p)
 static int uproc_report(struct uproc *p)
 {
 	char path[64], bid[48];
+	Dwfl_Module *mod;
 	struct stat st;
 	int i, j, fd;
 
@@ -292,8 +302,12 @@ static int uproc_report(struct uproc *p)
 				fd = -1;
 			}
 			build_id_of(fd, bid, sizeof(bid));
-			if (fd >= 0 && p->bids[i][0] && strcmp(bid, p->bids[i])) {
-				close(fd);	/* another build here: no names from it */
+			/*
+			 * another build here, or none recorded to check it by (the
+			 * live side could not read the mapped file): no names from it
+			 */
+			if (fd >= 0 && strcmp(bid, p->bids[i])) {
+				close(fd);
 				continue;
 			}
 		} else if (procmap_is_vdso(m)) {
@@ -313,9 +327,12 @@ static int uproc_report(struct uproc *p)
 		if (fd < 0 && (m->deleted || p->offline))
 			continue;	/* nothing to read it from: module+offset */
 		/* libdwfl owns fd on success */
-		if (!dwfl_report_elf(p->dwfl, m->path, m->path, fd, m->start - m->pgoff, false) &&
-		    fd >= 0)
+		mod = dwfl_report_elf(p->dwfl, m->path, m->path, fd, m->start - m->pgoff, false);
+		if (!mod && fd >= 0)
 			close(fd);
+		/* the mapped file unreadable, libdwfl read the path: record that one's build-id */
+		if (mod && !p->offline && !p->bids[i][0])
+			module_bid(mod, p->bids[i], sizeof(p->bids[i]));
 	}
 	dwfl_report_end(p->dwfl, NULL, NULL);
 	if (p->want_verdict && !p->offline)
