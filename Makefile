@@ -23,7 +23,8 @@ UNIT_RUN ?=
 PROGS32  := $(OUT)/progs32/abi32_loop
 # test_where.py's programs: where_loop.c makes its own syscall in x86 asm
 WHERE_PROGS := $(OUT)/progs/where_loop_fp $(OUT)/progs/where_loop_dwarf \
-	$(OUT)/progs/where_loop_lib $(OUT)/progs/where_cpp
+	$(OUT)/progs/where_loop_lib $(OUT)/progs/where_cpp $(OUT)/progs/where_nolibc \
+	$(OUT)/progs/where_vdso $(OUT)/progs/where_vdso_fp
 
 ifneq ($(ARCH),$(HOST_ARCH))
 include cross.mk
@@ -171,6 +172,25 @@ $(OUT)/progs/where_loop_lib: tests/integration/progs/where_loop.c $(OUT)/progs/l
 	$(Q)$(CC) -O2 -g -DWHERE_LIB $(WARN) $< -L$(OUT)/progs -lwhere -Wl,-rpath,'$$ORIGIN' \
 		-lpthread -o $@
 
+# --stacks auto's fp case: no C library, frame pointers, static (x86 asm)
+$(OUT)/progs/where_nolibc: tests/integration/progs/where_nolibc.c
+	@mkdir -p $(@D)
+	$(call msg,CC,$@)
+	$(Q)$(CC) -O2 -g -fno-omit-frame-pointer -mno-omit-leaf-frame-pointer -static -nostdlib \
+		-ffreestanding -fno-stack-protector -fno-pie -no-pie $(WARN) $< -o $@
+
+$(OUT)/progs/where_vdso: tests/integration/progs/where_vdso.c
+	@mkdir -p $(@D)
+	$(call msg,CC,$@)
+	$(Q)$(CC) -O2 -g $(WARN) $< -lpthread -o $@
+
+# --stacks auto's DWARF case: the program keeps frame pointers, glibc does not
+$(OUT)/progs/where_vdso_fp: tests/integration/progs/where_vdso.c
+	@mkdir -p $(@D)
+	$(call msg,CC,$@)
+	$(Q)$(CC) -O2 -g -fno-omit-frame-pointer -mno-omit-leaf-frame-pointer $(WARN) $< \
+		-lpthread -o $@
+
 # the C++ case: a member function in a namespace, -O2 -g without frame pointers
 $(OUT)/progs/where_cpp: tests/integration/progs/where_cpp.cpp
 	@mkdir -p $(@D)
@@ -186,7 +206,7 @@ $(OUT)/progs32/%: tests/integration/progs/%.c
 # Unit tests: plain C from include/ and user/, no kernel, no root.
 # the configuration module: user/config/ but actionspec.c (docs/design.md)
 CONFIG_SRCS := user/config/config.c user/config/yamlwalk.c user/config/values.c \
-	user/config/canconfig.c user/config/print.c
+	user/config/canconfig.c user/config/print.c user/config/stackopt.c
 UNIT_DEPS_test_model  := user/model/model.c
 UNIT_DEPS_test_eventlog := user/model/eventlog.c
 UNIT_DEPS_test_causes := user/model/causes.c user/model/syscalls.c
@@ -210,6 +230,8 @@ UNIT_DEPS_test_targets := user/collect/targets.c
 UNIT_DEPS_test_pidns := user/collect/pidns.c
 UNIT_DEPS_test_selfsched := user/collect/selfsched.c
 UNIT_DEPS_test_procmaps := user/collect/procmaps.c
+UNIT_DEPS_test_fpcheck := user/collect/fpcheck.c
+UNIT_LIBS_test_fpcheck := -ldw -lelf
 UNIT_DEPS_test_stackagg := user/model/stackagg.c
 UNIT_DEPS_test_candump := user/offline/candump.c
 UNIT_DEPS_test_prom := user/sinks/prom.c user/model/model.c user/judge/status.c user/model/syscalls.c

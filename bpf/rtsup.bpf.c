@@ -27,6 +27,7 @@ static __always_inline void zero_mem(void *p, __u32 n);
 #include "cycle.h"
 #include "cause.h"
 #include "can.h"
+#include "stackcfg.h"
 
 /*
  * TREAD - a field of a task_struct or sk_buff argument: tp_btf programs get
@@ -68,6 +69,9 @@ const volatile __u32 cfg_canopen;	/* match CANopen SDO requests and responses */
 const volatile char cfg_comms[RTSUP_MAX_COMMS][RTSUP_COMM_LEN];
 const volatile __u32 cfg_stacks;	/* --stacks: enum rtsup_stacks */
 const volatile __u32 cfg_stack_size = 8192;	/* --stack-size: DWARF bytes copied */
+const volatile __u32 cfg_stack_any;	/* stacks for some thread: --stacks or a rule's */
+const volatile __u32 cfg_stack_rules;	/* a rule gives stacks: look stack_cfg up */
+const volatile __u32 cfg_stack_size_max = 8192;	/* room of a DWARF record: the largest size */
 const volatile __u32 cfg_stack_budget = RTSUP_STACK_BUDGET;	/* per thread, interval */
 
 /* Written by userspace while running. */
@@ -255,6 +259,22 @@ struct {
 	__type(key, __u32);
 	__type(value, __u64);
 } stack_counters SEC(".maps");
+
+/* A rule's unwinder for a thread (stackcfg.h); written by userspace only. */
+struct {
+	__uint(type, BPF_MAP_TYPE_HASH);
+	__uint(max_entries, RTSUP_DEFAULT_THREADS);	/* --max-threads */
+	__type(key, __u32);
+	__type(value, struct rtsup_stack_cfg);
+} stack_cfg SEC(".maps");
+
+/* auto's verdict per process, tgid -> FP or DWARF (stackcfg.h); userspace's. */
+struct {
+	__uint(type, BPF_MAP_TYPE_HASH);
+	__uint(max_entries, 1024);
+	__type(key, __u32);
+	__type(value, __u32);
+} stack_auto SEC(".maps");
 
 /* zero_mem - clear n bytes of a map value by copying the zero template */
 static __always_inline void zero_mem(void *p, __u32 n)
@@ -444,14 +464,95 @@ static __always_inline __u64 copy_regs(__u64 *out, struct pt_regs *kregs)
  * dump_stack - the top of the user stack from sp: the whole size, or half
  * of it, and so on, where the stack's end is nearer (a main thread)
  */
-static __always_inline __u32 dump_stack(void *dst, __u64 sp)
+static __always_inline __u32 dump_stack(void *dst, __u64 sp, __u32 size)
 {
-	__u32 i, len = cfg_stack_size;
+	/* 64 bits: a 32-bit value's zero-extension would lose the bound checked below */
+	__u64 len = stack_dump_size(size, cfg_stack_size_max);
+	__u32 i;
 
-	for (i = 0; i < 5; i++, len >>= 1)
-		if (len && !bpf_probe_read_user(dst, len, (void *)sp))
+	for (i = 0; i < 5; i++, len >>= 1) {
+		/* the bound again, on the register passed: the verifier's proof of the room */
+		barrier_var(len);
+		if (len && len <= cfg_stack_size_max && !bpf_probe_read_user(dst, len, (void *)sp))
 			return len;
+	}
 	return 0;
+}
+
+/*
+ * stack_choice - the thread's unwinder and size (stackcfg.h): its rule's,
+ * else --stacks; auto by its process's verdict
+ */
+static __always_inline struct rtsup_stack_cfg stack_choice(const struct rtsup_thread *t)
+{
+	struct rtsup_stack_cfg c = stack_rule(cfg_stacks, cfg_stack_size, cfg_stack_rules ?
+					      bpf_map_lookup_elem(&stack_cfg, &t->tid) : NULL);
+
+	if (c.kind == RTSUP_STACKS_AUTO)
+		c.kind = stack_auto_kind(bpf_map_lookup_elem(&stack_auto, &t->tgid));
+	return c;
+}
+
+/* stack_rec_head - a stack record's header; the task is the current one */
+static __always_inline void stack_rec_head(struct rtsup_stack_rec *r, const struct rtsup_thread *t,
+					   struct task_struct *task, __u64 now, __u32 reason,
+					   __u32 nr, __u32 kind)
+{
+	r->ts = now;
+	r->tid = t->tid;
+	r->tgid = t->tgid;
+	r->reason = reason;
+	r->nr = nr;
+	r->kind = kind;
+	r->nips = 0;
+	r->dump_len = 0;
+	r->sp = 0;
+	r->exec_id = BPF_CORE_READ(task, self_exec_id);
+}
+
+/*
+ * capture_dwarf, capture_fp - one record of each kind, each with its own
+ * reservation (its size must be a constant: every DWARF record has the
+ * largest room), so that the verifier sees the room where it is used
+ */
+static __always_inline void capture_dwarf(const struct rtsup_thread *t, __u64 now, __u32 reason,
+					  __u32 nr, __u32 size)
+{
+	struct task_struct *task = bpf_get_current_task_btf();
+	struct rtsup_stack_rec *r;
+
+	r = bpf_ringbuf_reserve(&stacks, sizeof(*r) + cfg_stack_size_max, 0);
+	if (!r) {
+		count_stk(RTSUP_STK_LOST);
+		return;
+	}
+	stack_rec_head(r, t, task, now, reason, nr, RTSUP_STACKS_DWARF);
+	r->sp = copy_regs(r->regs, (struct pt_regs *)bpf_task_pt_regs(task));
+	if (r->sp)
+		r->dump_len = dump_stack(r + 1, r->sp, size);
+	if (!r->dump_len)
+		count_stk(RTSUP_STK_NO_STACK);
+	bpf_ringbuf_submit(r, 0);
+}
+
+static __always_inline void capture_fp(const struct rtsup_thread *t, __u64 now, __u32 reason,
+				       __u32 nr)
+{
+	struct task_struct *task = bpf_get_current_task_btf();
+	struct rtsup_stack_rec *r;
+	long n;
+
+	r = bpf_ringbuf_reserve(&stacks, sizeof(*r), 0);
+	if (!r) {
+		count_stk(RTSUP_STK_LOST);
+		return;
+	}
+	stack_rec_head(r, t, task, now, reason, nr, RTSUP_STACKS_FP);
+	n = bpf_get_task_stack(task, r->ips, sizeof(r->ips), BPF_F_USER_STACK);
+	r->nips = n > 0 ? n / sizeof(__u64) : 0;
+	if (!r->nips)
+		count_stk(RTSUP_STK_NO_STACK);
+	bpf_ringbuf_submit(r, 0);
 }
 
 /*
@@ -462,46 +563,21 @@ static __always_inline __u32 dump_stack(void *dst, __u64 sp)
 static __always_inline void capture_stack(struct rtsup_thread *t, __u64 now, __u32 reason,
 					  __u32 nr)
 {
-	struct task_struct *task;
-	struct rtsup_stack_rec *r;
-	long n;
+	struct rtsup_stack_cfg sc;
 
-	if (!cfg_stacks)
+	if (!cfg_stack_any)
+		return;
+	sc = stack_choice(t);
+	if (sc.kind != RTSUP_STACKS_FP && sc.kind != RTSUP_STACKS_DWARF)
 		return;
 	if (!stack_budget_take(t->tid)) {
 		count_stk(RTSUP_STK_OVER_BUDGET);
 		return;
 	}
-	r = bpf_ringbuf_reserve(&stacks, sizeof(*r) + (cfg_stacks == RTSUP_STACKS_DWARF ?
-						       cfg_stack_size : 0), 0);
-	if (!r) {
-		count_stk(RTSUP_STK_LOST);
-		return;
-	}
-	r->ts = now;
-	r->tid = t->tid;
-	r->tgid = t->tgid;
-	r->reason = reason;
-	r->nr = nr;
-	r->kind = cfg_stacks;
-	r->nips = 0;
-	r->dump_len = 0;
-	r->sp = 0;
-	task = bpf_get_current_task_btf();
-	r->exec_id = BPF_CORE_READ(task, self_exec_id);
-	if (cfg_stacks == RTSUP_STACKS_DWARF) {
-		r->sp = copy_regs(r->regs, (struct pt_regs *)bpf_task_pt_regs(task));
-		if (r->sp)
-			r->dump_len = dump_stack(r + 1, r->sp);
-		if (!r->dump_len)
-			count_stk(RTSUP_STK_NO_STACK);
-	} else {
-		n = bpf_get_task_stack(task, r->ips, sizeof(r->ips), BPF_F_USER_STACK);
-		r->nips = n > 0 ? n / sizeof(__u64) : 0;
-		if (!r->nips)
-			count_stk(RTSUP_STK_NO_STACK);
-	}
-	bpf_ringbuf_submit(r, 0);
+	if (sc.kind == RTSUP_STACKS_DWARF)
+		capture_dwarf(t, now, reason, nr, sc.size);
+	else
+		capture_fp(t, now, reason, nr);
 }
 
 /* emit_miss - a deadline miss with its cause (why_delim) */
@@ -1179,7 +1255,7 @@ static __always_inline void stack_exec_mark(struct rtsup_thread *t, struct task_
 {
 	struct rtsup_stack_rec *r;
 
-	if (!cfg_stacks)
+	if (!cfg_stack_any)
 		return;
 	r = bpf_ringbuf_reserve(&stacks, sizeof(*r), 0);
 	if (!r) {

@@ -475,6 +475,20 @@ enum rtsup_stacks {
 	RTSUP_STACKS_OFF,
 	RTSUP_STACKS_FP,
 	RTSUP_STACKS_DWARF,
+	/*
+	 * per process: frame pointers when every module it maps keeps them
+	 * (userspace's verdict in map "stack_auto"), DWARF until there is one
+	 */
+	RTSUP_STACKS_AUTO,
+};
+
+/*
+ * A thread's unwinder when its configuration rule gives one (map
+ * "stack_cfg", by tid; written by userspace only): it overrides --stacks.
+ */
+struct rtsup_stack_cfg {
+	__u32 kind;		/* enum rtsup_stacks */
+	__u32 size;		/* DWARF: bytes of user stack copied */
 };
 
 #define RTSUP_STACK_DEPTH	32	/* frames walked by frame pointers */
@@ -488,14 +502,14 @@ struct rtsup_stack_rec {
 	__u32 tgid;
 	__u32 reason;		/* enum rtsup_unsafe */
 	__u32 nr;		/* the syscall, RTSUP_U_SYSCALL only */
-	__u32 kind;		/* enum rtsup_stacks */
+	__u32 kind;		/* enum rtsup_stacks: FP or DWARF */
 	__u32 nips;		/* frame pointers: entries of ips */
 	__u32 dump_len;		/* DWARF: bytes of dump, from the stack pointer up */
 	__u32 exec_id;		/* the process's exec generation: its mappings changed */
 	__u64 sp;		/* DWARF: the user stack pointer, where dump starts */
 	__u64 regs[RTSUP_STACK_REGS];	/* DWARF: the user registers at the event */
 	__u64 ips[RTSUP_STACK_DEPTH];	/* frame pointers: innermost first */
-	/* DWARF: dump follows, cfg_stack_size bytes */
+	/* DWARF: dump follows, cfg_stack_size_max bytes (dump_len used) */
 };
 
 /* reason of a record without a stack: the process ran a new program (exec) */

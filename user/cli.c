@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "config/actionspec.h"
+#include "config/stackopt.h"
 #include "options.h"
 #include "config/strict.h"
 #include "rtsup.h"
@@ -23,7 +24,7 @@ static const char doc[] =
 "USAGE: rtsup-trace [-p PID] [-t TID] [-c COMM] [--rt] [--cgroup PATH]\n"
 "                   [-i INTERVAL] [-d DURATION] [-j] [-v] [--config FILE]\n"
 "                   [--check [--fail-on warn|error]] [--record FILE] [--perfetto FILE]\n"
-"                   [--hist[=METRIC,...] [--hist-interval]] [--stacks fp|dwarf|off]\n"
+"                   [--hist[=METRIC,...] [--hist-interval]] [--stacks fp|dwarf|auto|off]\n"
 "                   [-- CMD [ARGS...]]\n"
 "       rtsup-trace replay FILE [--config FILE] [-j] [--check] [--perfetto FILE]\n"
 "                   [--hist[=METRIC,...]] [-q]\n"
@@ -119,8 +120,9 @@ static const struct argp_option opts[] = {
 	  "Publish the verdicts on ROS 2 /diagnostics (Cyclone DDS, ROS_DOMAIN_ID)", 0 },
 	/* make bench: the same hooks with empty programs, the floor of any BPF tracer */
 	{ "stacks", OPT_STACKS, "HOW", 0,
-	  "User stack at each RT-unsafe event: off (default), fp (frame pointers) or dwarf", 0 },
-	{ "stack-size", OPT_STACK_SIZE, "BYTES", 0, "With --stacks dwarf: user stack copied per event (default 8K)", 0 },
+	  "User stack at each RT-unsafe event: off (default), fp (frame pointers), dwarf, or "
+	  "auto (fp for a process whose every module keeps frame pointers, dwarf otherwise)", 0 },
+	{ "stack-size", OPT_STACK_SIZE, "BYTES", 0, "With DWARF stacks: user stack copied per event (default 8K)", 0 },
 	{ "stack-budget", OPT_STACK_BUDGET, "N", 0, "Stacks captured per thread per interval, the rest counted (default 256)", 0 },
 	{ "event-buffer", OPT_EVENT_BUFFER, "BYTES", 0,
 	  "Ring buffer of rare events, a power of two from 64K to 256M (default 2M); "
@@ -177,27 +179,6 @@ static int hist_metric(const char *name)
 		if (!strcmp(name, names[i]))
 			return i;
 	return -1;
-}
-
-/* stack_size_parse - "8K", "16384": bytes of user stack, 512 to 64K, 8-aligned */
-static int stack_size_parse(const char *s, __u32 *out)
-{
-	char buf[16];
-	size_t n = strlen(s);
-	long v, mul = 1;
-
-	if (!n || n >= sizeof(buf))
-		return -1;
-	memcpy(buf, s, n + 1);
-	if (buf[n - 1] == 'K' || buf[n - 1] == 'k') {
-		mul = 1024;
-		buf[n - 1] = '\0';
-	}
-	if (strict_long(buf, 1, RTSUP_STACK_DUMP_MAX, &v) || v * mul > RTSUP_STACK_DUMP_MAX ||
-	    v * mul < 512 || (v * mul) % 8)
-		return -1;
-	*out = v * mul;
-	return 0;
 }
 
 /* ring_size_parse - "64K", "2M", "4194304": a power of two from 64 KiB to 256 MiB */
@@ -396,19 +377,15 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 		o->floor = true;
 		break;
 	case OPT_STACKS:
-		if (!strcmp(arg, "off"))
-			o->stacks = RTSUP_STACKS_OFF;
-		else if (!strcmp(arg, "fp"))
-			o->stacks = RTSUP_STACKS_FP;
-		else if (!strcmp(arg, "dwarf"))
-			o->stacks = RTSUP_STACKS_DWARF;
-		else
-			return bad(st, "--stacks", arg, "want fp, dwarf or off");
+		if (stacks_parse(arg, &o->stacks))
+			return bad(st, "--stacks", arg, "want fp, dwarf, auto or off");
+		o->stacks_given = true;
 		break;
 	case OPT_STACK_SIZE:
 		if (stack_size_parse(arg, &o->stack_size))
 			return bad(st, "--stack-size", arg,
 				   "want bytes, a multiple of 8 from 512 to 64K (e.g. 8K)");
+		o->stack_size_given = true;
 		break;
 	case OPT_EVENT_BUFFER:
 		if (ring_size_parse(arg, &o->event_buffer))

@@ -101,6 +101,11 @@ static int load_config(const struct options *o, const char *path, struct config 
 			r->ewma_weight = (double)o->ewma_w / RTSUP_EWMA_ONE;
 		if (o->period_given && (i < 0 || !(r->set & RF_PERIOD)))
 			r->period_ns = o->period_ns;
+		/* a rule's stacks: win over --stacks for its threads (docs/config.md) */
+		if (o->stacks_given && (i < 0 || !(r->set & RF_STACKS)))
+			r->stacks = o->stacks;
+		if (o->stack_size_given && (i < 0 || !(r->set & RF_STACK_SIZE)))
+			r->stack_size = o->stack_size;
 	}
 	/* --on-level adds to the file's actions: (cli.c checked each) */
 	for (i = 0; i < o->non_level; i++) {
@@ -277,9 +282,25 @@ static __u64 sample(const struct options *o, struct supervisor *s, const struct 
 	return mono_now();
 }
 
+/* stacks_plan - what the kernel side is loaded with for --stacks and the rules' stacks: */
+static void stacks_plan(struct options *o, const struct config *cfg)
+{
+	struct stack_plan p;
+
+	config_stack_plan(cfg, &p);
+	o->stacks = p.kind;
+	o->stack_size = p.size;
+	o->stack_any = p.any;
+	o->stack_rules = p.rules;
+	o->stack_dwarf = p.dwarf;
+	o->stack_auto = p.autos;
+	o->stack_size_max = p.size_max;
+}
+
 /* do_reload - SIGHUP: a good file replaces the rules, a bad one is refused */
 static void do_reload(const struct options *o, struct supervisor *s)
 {
+	struct stack_plan sp;
 	struct config cfg;
 
 	if (!o->config_path) {
@@ -290,6 +311,13 @@ static void do_reload(const struct options *o, struct supervisor *s)
 		fprintf(stderr, "rtsup-trace: SIGHUP: keeping the previous rules\n");
 		return;
 	}
+	config_stack_plan(&cfg, &sp);
+	/* the kernel side was sized and switched at load: more needs a restart */
+	if ((sp.any && !o->stack_any) || (sp.rules && !o->stack_rules) ||
+	    (sp.dwarf && sp.size_max > o->stack_size_max) || sp.kind != o->stacks ||
+	    sp.size != o->stack_size)
+		fprintf(stderr, "rtsup-trace: SIGHUP: %s: its stacks settings take effect at "
+			"the next start\n", o->config_path);
 	supervise_reload(s, &cfg);
 	fprintf(stderr, "rtsup-trace: SIGHUP: reloaded %s\n", o->config_path);
 }
@@ -323,6 +351,7 @@ static int run_live(struct options *o, struct supervisor *s)
 	o->canopen = s->cfg.can.canopen;
 	/* known from the start: a thread's period may settle before its rule is applied */
 	o->warmup_ns = s->cfg.defaults.warmup_ns;
+	stacks_plan(o, &s->cfg);
 	if (o->cmd) {
 		child = spawn_cmd(o->cmd, &go_fd);
 		if (child < 0) {

@@ -52,8 +52,16 @@ struct options {
 	const char *on_level[16];	/* --on-level SPEC, checked by action_parse */
 	int non_level;
 	bool ros2_diag;		/* --ros2-diagnostics (or the config's ros2_diagnostics:) */
-	__u32 stacks;		/* --stacks: enum rtsup_stacks */
+	__u32 stacks;		/* --stacks: enum rtsup_stacks; then the config's defaults */
 	__u32 stack_size;	/* --stack-size: DWARF bytes of user stack per event */
+	bool stacks_given;	/* --stacks was given: it wins over the file's defaults */
+	bool stack_size_given;
+	/* from the rules too (stacks_plan in main.c), for the loader */
+	bool stack_any;		/* some thread may have stacks */
+	bool stack_rules;	/* a rule's stacks differ from the default's */
+	bool stack_dwarf;	/* some thread may have DWARF stacks (dwarf or auto) */
+	bool stack_auto;	/* some thread has auto: processes get a verdict */
+	__u32 stack_size_max;	/* the largest DWARF size */
 	__u32 stack_budget;	/* --stack-budget: records per thread per interval */
 	__u32 event_buffer;	/* --event-buffer: bytes of the rare events' ring; 0 = the BPF default */
 	bool floor;		/* --floor (hidden): empty programs on the same hooks, for make bench */

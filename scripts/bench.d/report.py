@@ -293,6 +293,93 @@ def main():
     return 0
 
 
+def stack_records(res, v):
+    """records taken per round by a --stacks variant (its summary's stack_records)"""
+    return {x["round"]: x["records"] for x in res.get("stack_records", []) if x["variant"] == v}
+
+
+def per_record(r, res, v, base, cost):
+    """cost(variant, round) - cost(base, round) per record v took in the round, medians"""
+    out = []
+    for rnd, n in stack_records(res, v).items():
+        x, b = cost(v, rnd), cost(base, rnd)
+        if n and x is not None and b is not None:
+            out.append((x - b) / n)
+    return out
+
+
+def stacks_section(r, res, a):
+    """--stacks: per captured event (kernel side, userspace), clean cycles, sizes"""
+    vs = [v for v in ("stacks_fp", "stacks_dwarf", "stacks_auto") if r.ran(v)]
+    if not vs:
+        return
+
+    def tool_cpu(v, rnd):
+        x = r.runs.get((v, "where_loop", rnd))
+        return x["tool_cpu_s"] if x else None
+
+    def prog_ns(v, rnd):
+        x = r.runs.get((v, "where_loop", rnd))
+        return sum(t for _, t in x["progs"].values()) / 1e9 if x else None
+
+    w = r.wl["where_loop"]
+    a("## Where in the code (`--stacks`)")
+    a("")
+    a("The workload `where_loop` (`tests/integration/progs/where_loop.c` built with frame "
+      "pointers, so that both unwinders walk it whole; %d cycles of 1 ms, each with an mmap, "
+      "the first touch of its page and a munmap: three RT-unsafe events, every one captured, "
+      "no budget) under rtsup-trace with `--stacks off` (`rtsup_nostats`, `rtsup_stats`), "
+      "`fp`, `dwarf` and `auto` (DWARF here: Debian's glibc has no frame pointers). Per "
+      "stack record (the records each run's summary counts): rtsup-trace's own CPU time "
+      "beyond `--stacks off` in the same round (unwinding and symbols), and our programs' "
+      "run time beyond it with BPF statistics on (the capture: `bpf_get_task_stack`, or the "
+      "registers and %s of stack copied into the ring buffer)." % (w["ops"], "8 KiB"))
+    a("")
+    a("| variant | stack records per run | userspace per record | kernel side per record |")
+    a("|---|---:|---:|---:|")
+    for v in vs:
+        st = v + "_stats" if r.ran(v + "_stats") else None
+        recs = med(list(stack_records(res, v).values()))
+        a("| %s | %s | %s | %s |" % (
+            r.var[v]["label"], fmt(recs, "%.0f"),
+            spread([x * 1e6 for x in per_record(r, res, v, "rtsup_nostats", tool_cpu)],
+                   "%.1f us"),
+            spread([x * 1e9 for x in per_record(r, res, st, "rtsup_stats", prog_ns)], "%.0f ns")
+            if st else "-"))
+    a("")
+    a("Clean cycles: `loadgen` (targets, no RT-unsafe event) costs the same with `--stacks`: "
+      "ns per run of each hook with BPF statistics on. The fault hook is attached only with "
+      "`--stacks`: in `page_fault` (no target) every user fault of the machine runs it.")
+    a("")
+    hooks = ("sys_enter", "sys_exit", "sched_switch", "sched_wakeup", "page_fault_user")
+    a("| variant | " + " | ".join(hooks) + " |")
+    a("|---|" + "---:|" * len(hooks))
+    for v in ("rtsup_stats", "stacks_fp_stats", "stacks_dwarf_stats"):
+        if not r.ran(v):
+            continue
+        cells = []
+        for h in hooks:
+            wl = "page_fault" if h == "page_fault_user" else "loadgen"
+            p = prog_of(r, v, wl, h)
+            cells.append(fmt(r.ns(v, wl, p) if p else None, "%.1f"))
+        a("| %s | %s |" % (r.var[v]["label"], " | ".join(cells)))
+    a("")
+    sizes = res.get("prog_sizes", {})
+    if "rtsup_nostats" in sizes:
+        a("Instructions the verifier kept (`bytes_xlated` / 8): without `--stacks` the "
+          "capture is a test of a rodata constant the verifier removes.")
+        a("")
+        cols = [v for v in ("rtsup_nostats", "stacks_fp", "stacks_dwarf", "stacks_auto")
+                if v in sizes]
+        a("| program | " + " | ".join(cols) + " |")
+        a("|---|" + "---:|" * len(cols))
+        for p in sorted(sizes["rtsup_nostats"]):
+            a("| %s | %s |" % (p, " | ".join(
+                fmt((sizes[v].get(p) or [None])[0] and sizes[v][p][0] / 8, "%.0f")
+                for v in cols)))
+        a("")
+
+
 def render(r, res, made):
     m = res["machine"]
     L = []
@@ -529,6 +616,8 @@ def render(r, res, made):
           "are in it): **%.0f ns** per cycle. Work can move between hooks (a switch-in held "
           "until the thread's next event): this is the number that cannot hide it." % per_cycle)
     a("")
+
+    stacks_section(r, res, a)
 
     # ------------------------------------------------------------ userspace
     if us:

@@ -11,6 +11,7 @@ WHERE_MUNMAP and WHERE_CALL in it.
 import json
 import platform
 import shutil
+import signal
 import subprocess
 
 import pytest
@@ -261,3 +262,189 @@ def test_cpp_member_function_named_demangled():
     assert names[i + 1] == ("ctrl::Loop::run()", "where_cpp.cpp", marker_line("CPP_CALL", src))
     # through glibc's malloc and libstdc++'s operator new, both without frame pointers
     assert "operator new(unsigned long)" in fn[:i], names
+
+
+# ---- issue 15's second part: auto, a rule's stacks, the vDSO ----
+
+NOLIBC, NOLIBC_SRC = BUILD / "progs" / "where_nolibc", ROOT / "tests/integration/progs/where_nolibc.c"
+VDSO, VDSO_SRC = BUILD / "progs" / "where_vdso", ROOT / "tests/integration/progs/where_vdso.c"
+
+
+def run_cmd(argv, args, comm):
+    """rtsup-trace ARGS --pid over the program: (its truth, the JSON summary).
+
+    The program waits on its stdin before its first cycle. It is let go once
+    rtsup-trace has printed two intervals with its thread COMM: the rule of a
+    thread is matched in one interval and written into the kernel right after
+    it (collector_apply_rules), and auto's verdict is in since the start-up
+    scan read its mappings. Nothing before depends on the time it takes (a
+    slow guest's first interval may last seconds)."""
+    prog = subprocess.Popen([str(a) for a in argv], stdin=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    tr = subprocess.Popen([str(TRACE), "-j", "-i", "200ms", *args, "--pid", str(prog.pid)],
+                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        seen = 0
+        for line in tr.stdout:
+            if line.startswith('{"type":"interval"') and any(
+                    t["comm"] == comm for t in json.loads(line)["threads"]):
+                seen += 1
+                if seen == 2:
+                    break
+        assert seen == 2, tr.stderr.read()
+        prog.stdin.write("go\n")
+        prog.stdin.close()
+        err = prog.stderr.read()
+        assert prog.wait(timeout=120) == 0, err
+    finally:
+        prog.kill()
+        tr.send_signal(signal.SIGINT)
+        out, trerr = tr.communicate(timeout=120)
+    assert tr.returncode == 0, trerr
+    truth = [json.loads(x) for x in err.splitlines() if x.startswith('{"tid"')][0]
+    summary = [json.loads(x) for x in out.splitlines() if '"summary"' in x][0]
+    return truth, summary
+
+
+def vdso_config(tmp_path, stacks=None):
+    """clock_gettime unsafe for the thread ctrl; its stacks: when given."""
+    cfg = tmp_path / "where.yaml"
+    cfg.write_text("rules:\n  - name: ctrl\n    match: {thread: ctrl}\n"
+                   "    forbid_syscalls: [clock_gettime]\n" +
+                   ("    stacks: %s\n" % stacks if stacks else ""))
+    return cfg
+
+
+def thread_of(truth, summary):
+    [t] = [t for t in summary["threads"] if t["tid"] == truth["tid"]]
+    return t
+
+
+@pytest.mark.skipif(platform.machine() != "x86_64", reason="where_nolibc makes x86 syscalls")
+def test_auto_takes_fp_where_every_module_keeps_them():
+    """No C library, frame pointers: the program and the vDSO keep them, auto walks them."""
+    truth, summary = run_cmd([NOLIBC, 100, 5000, 2], ["--stacks", "auto"], "where_nolibc")
+    assert truth["mmap"] == truth["munmap"] == 50
+    for syscall, tag in (("mmap", "WHERE_NOLIBC_MMAP"), ("munmap", "WHERE_NOLIBC_MUNMAP")):
+        _, st = ctrl_stacks(truth, summary, syscall)
+        assert len(st) == 1 and st[0]["count"] == truth[syscall], st
+        # every one by frame pointers: the verdict was in before the first cycle
+        assert st[0]["unwinders"] == ["fp"], st[0]
+        names = named(st[0]["frames"])
+        fn = [n[0] for n in names]
+        i = fn.index("ctrl_update")
+        assert names[i] == ("ctrl_update", "where_nolibc.c", marker_line(tag, NOLIBC_SRC)), names
+        assert names[i + 1] == ("ctrl_loop", "where_nolibc.c",
+                                marker_line("WHERE_NOLIBC_CALL", NOLIBC_SRC)), names
+        # the syscall's own frame above it (sys, maybe a clone of it): nothing skipped
+        assert i == 1 and fn[0].startswith("sys"), names
+
+
+def test_auto_takes_dwarf_when_a_module_omits_them(tmp_path):
+    """where_vdso_fp keeps frame pointers, Debian's glibc does not: auto is DWARF,
+    and the stack through glibc and the vDSO is whole."""
+    fp = BUILD / "progs" / "where_vdso_fp"
+    truth, summary = run_cmd([fp, 100, 5000, 2],
+                             ["--stacks", "auto", "--config", str(vdso_config(tmp_path))], "ctrl")
+    _, st = ctrl_stacks(truth, summary, "clock_gettime")
+    assert len(st) == 1 and st[0]["count"] == truth["cputime"] == 50, st
+    assert st[0]["unwinders"] == ["dwarf"], st[0]
+    names = named(st[0]["frames"])
+    fn = [n[0] for n in names]
+    i = fn.index("ctrl_update")
+    assert names[i] == ("ctrl_update", "where_vdso.c", marker_line("WHERE_CPUTIME", VDSO_SRC)), names
+    assert names[i + 1] == ("ctrl_loop", "where_vdso.c",
+                            marker_line("WHERE_VDSO_CALL", VDSO_SRC)), names
+
+
+def test_vdso_frame_named(tmp_path):
+    """The unsafe syscall made inside the vDSO: its frame is named, and the unwind
+    goes on through it to the program."""
+    truth, summary = run_cmd([VDSO, 100, 5000, 2],
+                             ["--stacks", "dwarf", "--config", str(vdso_config(tmp_path))], "ctrl")
+    assert truth["cputime"] == 50
+    t, st = ctrl_stacks(truth, summary, "clock_gettime")
+    assert t["total"]["unsafe_syscalls"]["clock_gettime"] == truth["cputime"]
+    assert len(st) == 1 and st[0]["count"] == truth["cputime"], [
+        (s["count"], [(f.get("module", "").rsplit("/", 1)[-1], f.get("function"), f.get("line"))
+                      for f in s["frames"]]) for s in st]
+    frames = st[0]["frames"]
+    names = named(frames)
+    # the syscall instruction is the vDSO's: its function, module [vdso], its build-id
+    assert frames[0]["module"] == "[vdso]", frames[0]
+    assert frames[0]["function"].endswith("clock_gettime"), frames[0]
+    assert len(frames[0].get("build_id", "")) == 40, frames[0]
+    fn = [n[0] for n in names]
+    i = fn.index("ctrl_update")
+    assert names[i] == ("ctrl_update", "where_vdso.c", marker_line("WHERE_CPUTIME", VDSO_SRC)), names
+    assert names[i + 1] == ("ctrl_loop", "where_vdso.c",
+                            marker_line("WHERE_VDSO_CALL", VDSO_SRC)), names
+    # between them only glibc's clock_gettime
+    assert all(f["module"].rsplit("/", 1)[-1].startswith("libc.so") for f in frames[1:i]), frames
+
+
+def test_vdso_frame_named_at_replay(tmp_path):
+    """The recorded trace keeps the vDSO's build-id; replay names its frames from
+    the vDSO of the replaying process when the kernel build is the same."""
+    rec = tmp_path / "where.rtsup"
+    truth, live = run_cmd([VDSO, 60, 5000, 2],
+                          ["--stacks", "dwarf", "--config", str(vdso_config(tmp_path)),
+                           "--record", str(rec)], "ctrl")
+    r = subprocess.run([str(TRACE), "replay", str(rec), "-j"], capture_output=True, text=True,
+                       timeout=60)
+    assert r.returncode == 0, r.stderr
+    replayed = [json.loads(x) for x in r.stdout.splitlines() if '"summary"' in x][0]
+    _, [lst] = ctrl_stacks(truth, live, "clock_gettime")
+    _, [st] = ctrl_stacks(truth, replayed, "clock_gettime")
+    assert st["count"] == lst["count"] == truth["cputime"]
+    assert named(st["frames"]) == named(lst["frames"])
+    assert st["frames"][0]["module"] == "[vdso]"
+    assert st["frames"][0]["function"] == lst["frames"][0]["function"]
+    assert st["unwinders"] == ["dwarf"]
+
+
+def test_rule_turns_stacks_on_for_its_threads(tmp_path):
+    """--stacks off, a rule's stacks: dwarf: its thread's stacks, all of them."""
+    truth, summary = run_cmd([VDSO, 100, 5000, 2],
+                             ["--config", str(vdso_config(tmp_path, "dwarf"))], "ctrl")
+    _, st = ctrl_stacks(truth, summary, "clock_gettime")
+    assert len(st) == 1 and st[0]["count"] == truth["cputime"], st
+    assert st[0]["unwinders"] == ["dwarf"]
+    assert "ctrl_update" in [n[0] for n in named(st[0]["frames"])]
+
+
+def test_rule_turns_stacks_off_for_its_threads(tmp_path):
+    """--stacks dwarf, a rule's stacks: off: its thread's events counted, no stack."""
+    truth, summary = run_cmd([VDSO, 100, 5000, 2],
+                             ["--stacks", "dwarf", "--config", str(vdso_config(tmp_path, "off"))], "ctrl")
+    t = thread_of(truth, summary)
+    assert t["total"]["unsafe_syscalls"]["clock_gettime"] == truth["cputime"] == 50
+    assert not t.get("stacks"), t["stacks"]
+    # the other threads' stacks are all the records taken: none was ctrl's
+    others = sum(s["count"] for o in summary["threads"] for s in o.get("stacks", []))
+    assert summary["stack_records"]["records"] == others, summary["stack_records"]
+
+
+def test_rule_picks_the_unwinder(tmp_path):
+    """--stacks dwarf, a rule's stacks: fp: its thread's stacks by frame pointers."""
+    truth, summary = run_cmd([VDSO, 100, 5000, 2],
+                             ["--stacks", "dwarf", "--config", str(vdso_config(tmp_path, "fp"))], "ctrl")
+    _, st = ctrl_stacks(truth, summary, "clock_gettime")
+    assert sum(s["count"] for s in st) == truth["cputime"], st
+    assert all(s["unwinders"] == ["fp"] for s in st), st
+    # the vDSO keeps frame pointers: its frame first, named, and its caller in glibc
+    assert all(s["frames"][0]["module"] == "[vdso]" for s in st), st
+
+
+@pytest.mark.parametrize("value, why", [
+    ("lbr", "unknown stacks 'lbr' (want off, fp, dwarf or auto)"),
+    ("dwarf\n    stack_size: 100",
+     "bad stack_size '100' (want bytes, a multiple of 8 from 512 to 64K, e.g. 8K)")])
+def test_bad_rule_stacks_one_line(tmp_path, value, why):
+    cfg = tmp_path / "bad.yaml"
+    cfg.write_text("rules:\n  - name: ctrl\n    stacks: %s\n" % value)
+    r = subprocess.run([str(TRACE), "--config", str(cfg), "-p", "1"], capture_output=True,
+                       text=True, timeout=30)
+    assert r.returncode == 1
+    [line] = r.stderr.splitlines()
+    assert line.startswith("rtsup-trace: %s:" % cfg) and line.endswith(why), line

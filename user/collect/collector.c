@@ -64,6 +64,14 @@ static int poll_over(struct collector *c)
 	return -EAGAIN;
 }
 
+/* put_verdict - --stacks auto: a process's unwinder, for the kernel side (stackcfg.h) */
+static void put_verdict(void *ctx, __u32 tgid, __u32 kind)
+{
+	struct collector *c = ctx;
+
+	bpf_map_update_elem(bpf_map__fd(c->skel->maps.stack_auto), &tgid, &kind, BPF_ANY);
+}
+
 /* on_event - ring buffer callback: keep the event for the sinks */
 static int on_event(void *ctx, void *data, size_t len)
 {
@@ -74,8 +82,10 @@ static int on_event(void *ctx, void *data, size_t len)
 	if (c->on_rare)
 		c->on_rare(c->sink_ctx, data);
 	/* a new target process: its mappings now, while it is there */
-	if (c->unwinder && ((struct rtsup_event *)data)->type == RTSUP_EV_NEW)
+	if (c->unwinder && ((struct rtsup_event *)data)->type == RTSUP_EV_NEW) {
 		unwind_note_process(c->unwinder, ((struct rtsup_event *)data)->tgid);
+		unwind_take_verdicts(c->unwinder, put_verdict, c);
+	}
 	collector_take_event(c, data);
 	return poll_over(c);
 }
@@ -91,10 +101,13 @@ static int on_stack_rec(void *ctx, void *data, size_t len)
 	if (len < sizeof(*r))
 		return 0;
 	n = unwind_record(c->unwinder, r, len, frames, STACK_MAX_FRAMES);
+	/* its mappings were read again (an exec, a dlopen): auto may say otherwise */
+	unwind_take_verdicts(c->unwinder, put_verdict, c);
 	if (n < 0)
 		return 0;	/* an exec mark: no event */
 	c->stacks.records++;
-	stackagg_add(&c->stacks, r->tid, r->tgid, NULL, r->reason, r->nr, frames, n);
+	stackagg_add_kind(&c->stacks, r->tid, r->tgid, NULL, r->reason, r->nr, r->kind, frames,
+			  n);
 	if (c->on_stack) {
 		struct stack_maps m;
 
@@ -107,9 +120,11 @@ static int on_stack_rec(void *ctx, void *data, size_t len)
 /* open_stacks - --stacks: the unwinder and the stack ring buffer */
 static int open_stacks(struct collector *c)
 {
-	if (!c->skel->rodata->cfg_stacks)
+	if (!c->skel->rodata->cfg_stack_any)
 		return 0;
 	c->unwinder = unwinder_new();
+	if (c->unwinder)
+		unwinder_set_auto(c->unwinder, c->o->stack_auto);
 	c->stack_rb = ring_buffer__new(bpf_map__fd(c->skel->maps.stacks), on_stack_rec, c, NULL);
 	if (!c->unwinder || !c->stack_rb) {
 		fprintf(stderr, "rtsup-trace: --stacks: cannot create the stack ring buffer: %s\n",
@@ -189,8 +204,10 @@ static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, bool 
 	/* the hooks look a thread up only when its bits are set (rtsup.h) */
 	tid_mark_new(c->skel->bss->tidmask, c->skel->bss->wakemask, key);
 	/* the kernel may have added it since attach: keep its entry */
-	if (c->unwinder && process)
+	if (c->unwinder && process) {
 		unwind_note_process(c->unwinder, tgid);
+		unwind_take_verdicts(c->unwinder, put_verdict, c);
+	}
 	if (bpf_map_update_elem(bpf_map__fd(c->skel->maps.threads), &key, t, BPF_NOEXIST) &&
 	    errno != EEXIST) {
 		if (errno != E2BIG)
@@ -630,6 +647,7 @@ void collector_reap(struct collector *c)
 			continue;	/* a new thread has the tid already (add_thread) */
 		bpf_map_delete_elem(fd, &tm->tid);
 		bpf_map_delete_elem(bpf_map__fd(c->skel->maps.thread_cfg), &tm->tid);
+		bpf_map_delete_elem(bpf_map__fd(c->skel->maps.stack_cfg), &tm->tid);
 		if (dead)
 			dead[ndead++] = tm->tid;
 		else
@@ -650,6 +668,17 @@ void collector_reap(struct collector *c)
 		}
 		prev = &key;
 	}
+	/* and auto's verdicts with them (the unwinder keeps its own) */
+	tfd = bpf_map__fd(c->skel->maps.stack_auto);
+	prev = NULL;
+	while (c->o->stack_auto && !bpf_map_get_next_key(tfd, prev, &next)) {
+		key = next;
+		if (!process_exists(key)) {
+			bpf_map_delete_elem(tfd, &key);
+			continue;
+		}
+		prev = &key;
+	}
 }
 
 /* syscall_list - names to numbers for the kernel; unknown names were rejected at load */
@@ -662,6 +691,25 @@ static __u32 syscall_list(__u16 *out, __u32 max, char names[][32], int n)
 		if ((nr = syscall_nr(names[i])) >= 0)
 			out[k++] = nr;
 	return k;
+}
+
+/*
+ * stack_cfg_apply - a rule's stacks: for its thread, in map stack_cfg when
+ * they are not what the kernel side was loaded with (stackcfg.h)
+ */
+static void stack_cfg_apply(struct collector *c, const struct thread_model *tm,
+			    const struct rule *r)
+{
+	const struct options *o = c->o;
+	struct rtsup_stack_cfg sc = { .kind = r->stacks, .size = r->stack_size };
+	int fd = bpf_map__fd(c->skel->maps.stack_cfg);
+
+	if (!o->stack_rules)
+		return;
+	if (sc.kind == o->stacks && sc.size == o->stack_size)
+		bpf_map_delete_elem(fd, &tm->tid);
+	else
+		bpf_map_update_elem(fd, &tm->tid, &sc, BPF_ANY);
 }
 
 void collector_apply_rules(struct collector *c, const struct supervisor *s)
@@ -685,6 +733,7 @@ void collector_apply_rules(struct collector *c, const struct supervisor *s)
 					 r->nallow);
 		tc.nforbid = syscall_list(tc.forbid, RTSUP_CFG_SYSCALLS, (char (*)[32])r->forbid,
 					  r->nforbid);
+		stack_cfg_apply(c, tm, r);
 		/* the hooks look thread_cfg up only from now on */
 		c->skel->bss->thread_cfg_used = 1;
 		if (!bpf_map_update_elem(fd, &tm->tid, &tc, BPF_ANY))

@@ -159,8 +159,8 @@ int loader_start(struct loader *l, const struct options *o)
 	}
 	l->skel = s;
 	/* where in the code of page faults: x86's exceptions:page_fault_user */
-	l->fault_stacks = o->stacks && has_tracepoint("page_fault_user");
-	if (o->stacks && !l->fault_stacks)
+	l->fault_stacks = o->stack_any && has_tracepoint("page_fault_user");
+	if (o->stack_any && !l->fault_stacks)
 		fprintf(stderr, "rtsup-trace: --stacks: no page_fault_user tracepoint on this "
 				"kernel: page faults are counted without their stacks\n");
 	select_programs(s->obj, l->tp_btf, o->can, l->fault_stacks);
@@ -189,11 +189,15 @@ int loader_start(struct loader *l, const struct options *o)
 	bpf_map__set_max_entries(s->maps.thread_cfg, o->max_threads);
 	s->rodata->cfg_stacks = o->stacks;
 	s->rodata->cfg_stack_size = o->stack_size;
+	s->rodata->cfg_stack_any = o->stack_any;
+	s->rodata->cfg_stack_rules = o->stack_rules;
+	s->rodata->cfg_stack_size_max = o->stack_size_max;
+	bpf_map__set_max_entries(s->maps.stack_cfg, o->max_threads);
 	s->rodata->cfg_stack_budget = o->stack_budget;
 	bpf_map__set_max_entries(s->maps.stack_budget, o->max_threads);
 	/* room for a budget's worth of DWARF records of a few threads */
-	if (o->stacks)
-		bpf_map__set_max_entries(s->maps.stacks, o->stacks == RTSUP_STACKS_DWARF ?
+	if (o->stack_any)
+		bpf_map__set_max_entries(s->maps.stacks, o->stack_dwarf ?
 					 16 << 20 : 1 << 20);
 	if (o->event_buffer)
 		bpf_map__set_max_entries(s->maps.events, o->event_buffer);

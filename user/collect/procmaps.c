@@ -16,8 +16,10 @@ int procmaps_parse_line(const char *line, struct procmap *m)
 		   &inode, &pos) < 6 || !pos || start >= end)
 		return -1;
 	path = line + pos;
-	/* code of a file: anonymous, [vdso] and JIT regions are no module */
-	if (strlen(perms) < 3 || perms[2] != 'x' || path[0] != '/')
+	/* code of a file, or the vDSO: anonymous and JIT regions are no module */
+	if (strlen(perms) < 3 || perms[2] != 'x' ||
+	    (path[0] != '/' && strncmp(path, PROCMAP_VDSO "\n", sizeof(PROCMAP_VDSO)) &&
+	     strcmp(path, PROCMAP_VDSO)))
 		return 0;
 	memset(m, 0, sizeof(*m));
 	m->start = start;

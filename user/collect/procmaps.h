@@ -9,18 +9,28 @@
 
 #include <stdbool.h>
 #include <stdio.h>
+#include <string.h>
 #include <linux/types.h>
 
 struct procmap {
 	__u64 start, end, pgoff;
 	bool deleted;		/* "(deleted)": the file is gone from its path */
-	char path[256];
+	char path[256];		/* PROCMAP_VDSO for the vDSO */
 };
+
+/* the vDSO's mapping: no file, its image is read from the process's memory */
+#define PROCMAP_VDSO	"[vdso]"
+
+/* procmap_is_vdso - the vDSO's mapping? */
+static inline bool procmap_is_vdso(const struct procmap *m)
+{
+	return !strcmp(m->path, PROCMAP_VDSO);
+}
 
 /*
  * procmaps_parse_line - one line of /proc/PID/maps: 1 for an executable
- * file mapping (m filled), 0 for anything else, -1 for a line that is not
- * in the format
+ * file mapping or the vDSO (m filled), 0 for anything else, -1 for a line
+ * that is not in the format
  */
 int procmaps_parse_line(const char *line, struct procmap *m);
 /* procmaps_read - the executable file mappings from f; count, or -1 */

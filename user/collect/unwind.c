@@ -13,9 +13,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <elfutils/libdwfl.h>
 #include <elfutils/libdwelf.h>
+#include "collect/fpcheck.h"
 #include "collect/procmaps.h"
 #include "collect/unwind.h"
 
@@ -53,12 +55,29 @@ struct uproc {
 	bool offline;		/* replay: mappings from the recording, files checked */
 	bool dirty;		/* offline: mappings added since libdwfl was told */
 	struct symcache *cache;	/* SYMCACHE_SIZE, emptied when the mappings change */
+	bool want_verdict;	/* --stacks auto: judge its modules' frame pointers */
+	__u32 verdict;		/* RTSUP_STACKS_FP or _DWARF, 0 before the first */
+	bool verdict_new;	/* not taken yet (unwind_take_verdicts) */
 };
 
 struct unwinder {
 	struct uproc *p;
 	int n, cap;
+	bool auto_fp;		/* --stacks auto somewhere: processes get a verdict */
 };
+
+/*
+ * The modules' frame pointer verdicts by build-id: the C library's is
+ * taken once for every process that maps it.
+ */
+#define FPCACHE_SIZE	64
+
+static struct {
+	char bid[48];
+	enum fp_verdict v;
+} fpcache[FPCACHE_SIZE];
+static int fpcache_n;
+static bool verdicts_pending;	/* some process has a verdict not taken yet */
 
 static char *debuginfo_path;	/* NULL: libdwfl's default, .debug and /usr/lib/debug */
 
@@ -88,6 +107,56 @@ static void build_id_of(int fd, char *hex, size_t len)
 	for (i = 0; i < n && (size_t)(i * 2 + 2) < len; i++)
 		snprintf(hex + i * 2, 3, "%02x", id[i]);
 	elf_end(elf);
+}
+
+/*
+ * vdso_fd - the vDSO image of a process ("self" for ours), from its memory,
+ * as a file libdwfl can read (a memfd); -1 if it cannot be read
+ */
+static int vdso_fd(const char *pid, __u64 start, __u64 end)
+{
+	char path[64], *buf;
+	size_t len = end - start;
+	int mem, fd = -1;
+
+	if (!len || len > (1 << 20))
+		return -1;
+	snprintf(path, sizeof(path), "/proc/%s/mem", pid);
+	mem = open(path, O_RDONLY | O_CLOEXEC);
+	buf = malloc(len);
+	if (mem >= 0 && buf && pread(mem, buf, len, start) == (ssize_t)len) {
+		fd = memfd_create("vdso", MFD_CLOEXEC);
+		if (fd >= 0 && (write(fd, buf, len) != (ssize_t)len || lseek(fd, 0, SEEK_SET))) {
+			close(fd);
+			fd = -1;
+		}
+	}
+	free(buf);
+	if (mem >= 0)
+		close(mem);
+	return fd;
+}
+
+/*
+ * own_vdso_fd - replay: our own vDSO, the recorded one when its build-id
+ * says so (the same kernel build)
+ */
+static int own_vdso_fd(void)
+{
+	struct procmap *maps;
+	FILE *f = fopen("/proc/self/maps", "re");
+	int i, n, fd = -1;
+
+	if (!f)
+		return -1;
+	n = procmaps_read(f, &maps);
+	fclose(f);
+	for (i = 0; i < n; i++)
+		if (fd < 0 && procmap_is_vdso(&maps[i]))
+			fd = vdso_fd("self", maps[i].start, maps[i].end);
+	if (n >= 0)
+		free(maps);
+	return fd;
 }
 
 /*
@@ -127,6 +196,72 @@ static int uproc_set_maps(struct uproc *p, struct procmap *maps, int n)
 	return p->flags && p->bids ? 0 : -ENOMEM;
 }
 
+/* module_bid - a libdwfl module's build-id, hex; "" if none */
+static void module_bid(Dwfl_Module *m, char *hex, size_t len)
+{
+	const unsigned char *id;
+	GElf_Addr vaddr;
+	int i, n = dwfl_module_build_id(m, &id, &vaddr);
+
+	hex[0] = '\0';
+	for (i = 0; i < n && (size_t)(i * 2 + 2) < len; i++)
+		snprintf(hex + i * 2, 3, "%02x", id[i]);
+}
+
+/* module_fp - fp_elf_check of one module, once per build-id */
+static enum fp_verdict module_fp(Dwfl_Module *m)
+{
+	Dwarf_Addr bias;
+	char bid[48];
+	enum fp_verdict v;
+	int i;
+
+	module_bid(m, bid, sizeof(bid));
+	for (i = 0; bid[0] && i < fpcache_n; i++)
+		if (!strcmp(fpcache[i].bid, bid))
+			return fpcache[i].v;
+	v = fp_elf_check(dwfl_module_getelf(m, &bias));
+	if (bid[0] && fpcache_n < FPCACHE_SIZE) {
+		snprintf(fpcache[fpcache_n].bid, sizeof(fpcache[0].bid), "%s", bid);
+		fpcache[fpcache_n++].v = v;
+	}
+	return v;
+}
+
+struct fp_walk {
+	enum fp_verdict v[64];
+	int n;
+};
+
+/* one_module_fp - dwfl_getmodules callback: each module's verdict */
+static int one_module_fp(Dwfl_Module *m, void **ud, const char *name, Dwarf_Addr start,
+			 void *arg)
+{
+	struct fp_walk *w = arg;
+
+	if (w->n < 64)
+		w->v[w->n++] = module_fp(m);
+	return DWARF_CB_OK;
+}
+
+/*
+ * uproc_judge_fp - --stacks auto: fp when every module the process maps
+ * keeps frame pointers (fpcheck.h); a new verdict waits to be taken
+ */
+static void uproc_judge_fp(struct uproc *p)
+{
+	struct fp_walk w = { .n = 0 };
+	__u32 kind;
+
+	dwfl_getmodules(p->dwfl, one_module_fp, &w, 0);
+	kind = fp_process_kind(w.v, w.n);
+	if (kind != p->verdict) {
+		p->verdict = kind;
+		p->verdict_new = true;
+		verdicts_pending = true;
+	}
+}
+
 /*
  * uproc_report - the mappings as libdwfl modules. Live: each read through
  * /proc/PID/map_files/, the mapped inode whatever is at its path now.
@@ -136,6 +271,7 @@ static int uproc_set_maps(struct uproc *p, struct procmap *maps, int n)
 static int uproc_report(struct uproc *p)
 {
 	char path[64], bid[48];
+	Dwfl_Module *mod;
 	struct stat st;
 	int i, j, fd;
 
@@ -159,16 +295,25 @@ static int uproc_report(struct uproc *p)
 		}
 		if (p->offline) {
 			/* a recorded path is outside input: a regular file, never a FIFO's wait */
-			fd = open(m->path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+			fd = procmap_is_vdso(m) ? own_vdso_fd() :
+			     open(m->path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
 			if (fd >= 0 && (fstat(fd, &st) || !S_ISREG(st.st_mode))) {
 				close(fd);
 				fd = -1;
 			}
 			build_id_of(fd, bid, sizeof(bid));
-			if (fd >= 0 && p->bids[i][0] && strcmp(bid, p->bids[i])) {
-				close(fd);	/* another build here: no names from it */
+			/*
+			 * another build here, or none recorded to check it by (the
+			 * live side could not read the mapped file): no names from it
+			 */
+			if (fd >= 0 && strcmp(bid, p->bids[i])) {
+				close(fd);
 				continue;
 			}
+		} else if (procmap_is_vdso(m)) {
+			snprintf(path, sizeof(path), "%u", p->tgid);
+			fd = vdso_fd(path, m->start, m->end);
+			build_id_of(fd, p->bids[i], sizeof(p->bids[i]));
 		} else {
 			snprintf(path, sizeof(path), "/proc/%u/map_files/%llx-%llx", p->tgid,
 				 (unsigned long long)m->start, (unsigned long long)m->end);
@@ -182,11 +327,16 @@ static int uproc_report(struct uproc *p)
 		if (fd < 0 && (m->deleted || p->offline))
 			continue;	/* nothing to read it from: module+offset */
 		/* libdwfl owns fd on success */
-		if (!dwfl_report_elf(p->dwfl, m->path, m->path, fd, m->start - m->pgoff, false) &&
-		    fd >= 0)
+		mod = dwfl_report_elf(p->dwfl, m->path, m->path, fd, m->start - m->pgoff, false);
+		if (!mod && fd >= 0)
 			close(fd);
+		/* the mapped file unreadable, libdwfl read the path: record that one's build-id */
+		if (mod && !p->offline && !p->bids[i][0])
+			module_bid(mod, p->bids[i], sizeof(p->bids[i]));
 	}
 	dwfl_report_end(p->dwfl, NULL, NULL);
+	if (p->want_verdict && !p->offline)
+		uproc_judge_fp(p);
 	return 0;
 }
 
@@ -236,6 +386,7 @@ static struct uproc *uproc_find_or_add(struct unwinder *u, __u32 tgid, bool *add
 	p = &u->p[u->n++];
 	memset(p, 0, sizeof(*p));
 	p->tgid = tgid;
+	p->want_verdict = u->auto_fp;
 	p->cache = calloc(SYMCACHE_SIZE, sizeof(*p->cache));
 	*added = true;
 	return p;
@@ -255,6 +406,27 @@ static struct uproc *uproc_get(struct unwinder *u, __u32 tgid)
 void unwind_note_process(struct unwinder *u, __u32 tgid)
 {
 	uproc_get(u, tgid);
+}
+
+void unwinder_set_auto(struct unwinder *u, bool on)
+{
+	u->auto_fp = on;
+}
+
+void unwind_take_verdicts(struct unwinder *u, void (*fn)(void *ctx, __u32 tgid, __u32 kind),
+			  void *ctx)
+{
+	int i;
+
+	/* called at every stack record: nothing to look at, most of the time */
+	if (!verdicts_pending)
+		return;
+	verdicts_pending = false;
+	for (i = 0; i < u->n; i++)
+		if (u->p[i].verdict_new) {
+			u->p[i].verdict_new = false;
+			fn(ctx, u->p[i].tgid, u->p[i].verdict);
+		}
 }
 
 /* ---- DWARF: the copied registers and stack as the thread's state ---- */

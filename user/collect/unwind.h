@@ -10,6 +10,7 @@
 #ifndef RTSUP_UNWIND_H
 #define RTSUP_UNWIND_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <linux/types.h>
 #include "rtsup.h"
@@ -31,6 +32,17 @@ struct stack_maps {
 struct unwinder *unwinder_new(void);
 /* unwind_note_process - read a target process's mappings now, if not yet */
 void unwind_note_process(struct unwinder *u, __u32 tgid);
+/*
+ * unwinder_set_auto - --stacks auto: judge each process's frame pointers
+ * (fpcheck.h) whenever its mappings are read
+ */
+void unwinder_set_auto(struct unwinder *u, bool on);
+/*
+ * unwind_take_verdicts - fn(ctx, tgid, RTSUP_STACKS_FP or _DWARF) for each
+ * process whose verdict is new since the last call
+ */
+void unwind_take_verdicts(struct unwinder *u, void (*fn)(void *ctx, __u32 tgid, __u32 kind),
+			  void *ctx);
 /*
  * unwind_record - the frames of one stack record, innermost first: how
  * many (0: none could be read), at most max; -1 for an exec mark, which

@@ -107,6 +107,8 @@ const struct field rule_f[] = {
 	  .max = MAX_LIST, .flag = RF_ALLOW },
 	{ .key = "forbid_syscalls", .type = F_SYSLIST, .off = R(forbid), .off2 = R(nforbid),
 	  .max = MAX_LIST, .flag = RF_FORBID },
+	{ .key = "stacks", .type = F_STACKS, .off = R(stacks), .flag = RF_STACKS },
+	{ .key = "stack_size", .type = F_STACKSIZE, .off = R(stack_size), .flag = RF_STACK_SIZE },
 	{ .key = "thresholds", .type = F_GROUP, .sub = thresholds_f },
 	{},
 };
@@ -383,6 +385,36 @@ static int parse_top(struct parse *p, yaml_node_t *top, struct config *c)
 	return rules ? parse_rules(p, rules, c) : 0;
 }
 
+/* stack_dwarf - may this setting capture DWARF records? (auto: until a verdict, and after) */
+static bool stack_dwarf(__u32 kind)
+{
+	return kind == RTSUP_STACKS_DWARF || kind == RTSUP_STACKS_AUTO;
+}
+
+void config_stack_plan(const struct config *c, struct stack_plan *p)
+{
+	int i;
+
+	memset(p, 0, sizeof(*p));
+	p->kind = c->defaults.stacks;
+	p->size = c->defaults.stack_size;
+	for (i = -1; i < c->nrules; i++) {
+		const struct rule *r = i < 0 ? &c->defaults : &c->rules[i];
+
+		if (r->stacks != RTSUP_STACKS_OFF)
+			p->any = true;
+		if (r->stacks == RTSUP_STACKS_AUTO)
+			p->autos = true;
+		if (stack_dwarf(r->stacks)) {
+			p->dwarf = true;
+			if (r->stack_size > p->size_max)
+				p->size_max = r->stack_size;
+		}
+		if (r->stacks != p->kind || (stack_dwarf(r->stacks) && r->stack_size != p->size))
+			p->rules = true;
+	}
+}
+
 void config_defaults(struct config *c)
 {
 	struct rule *d = &c->defaults;
@@ -395,6 +427,8 @@ void config_defaults(struct config *c)
 	d->ndelims = 2;
 	d->policy = -1;
 	d->prio = -1;
+	d->stacks = RTSUP_STACKS_OFF;
+	d->stack_size = 8192;
 	d->th.init_timeout_s = 5;
 	d->th.miss_warn = 1;
 	d->th.miss_error_rate = 0.01;

@@ -55,6 +55,8 @@ enum rule_field {
 	RF_ALLOW = 1 << 5,
 	RF_FORBID = 1 << 6,
 	RF_WARMUP = 1 << 7,
+	RF_STACKS = 1 << 8,
+	RF_STACK_SIZE = 1 << 9,
 };
 
 struct rule {
@@ -75,6 +77,8 @@ struct rule {
 	int nallow;
 	char forbid[CONFIG_MAX_SYSCALLS][32];	/* extra syscalls that are unsafe here */
 	int nforbid;
+	__u32 stacks;				/* enum rtsup_stacks: over --stacks for its threads */
+	__u32 stack_size;			/* DWARF: bytes of user stack per event */
 	struct thresholds th;			/* merged over the defaults at load */
 	int line;				/* where the rule starts in the file */
 };
@@ -128,6 +132,17 @@ struct config {
 	bool ros2_diagnostics;		/* publish ROS 2 /diagnostics (robot/ros2diag.c) */
 };
 
+/* What the rules' stacks: ask of the kernel side, fixed when it is loaded. */
+struct stack_plan {
+	__u32 kind;		/* the defaults' (enum rtsup_stacks): threads no rule changes */
+	__u32 size;
+	bool any;		/* some thread may have stacks */
+	bool rules;		/* a rule's stacks or size differ from the defaults' */
+	bool dwarf;		/* some thread may have DWARF stacks (dwarf or auto) */
+	bool autos;		/* some thread has auto: processes need a verdict */
+	__u32 size_max;		/* the largest size of those */
+};
+
 /* config_defaults - the built-in configuration (no file) */
 void config_defaults(struct config *c);
 /*
@@ -146,6 +161,8 @@ int config_match(const struct config *c, const char *process, const char *thread
  * its index or -1; id is the counted identifier (EFF flag for 29-bit ids)
  */
 int config_can_node(const struct config *c, const char *iface, __u32 id, int dir);
+/* config_stack_plan - the stacks every rule may ask for (after the command line's) */
+void config_stack_plan(const struct config *c, struct stack_plan *p);
 /* config_add_action - append an action (--on-level); -1 when ACTION_MAX are there */
 int config_add_action(struct config *c, const struct action *a);
 /* config_print - the effective configuration, in the file's YAML form */

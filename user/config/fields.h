@@ -40,6 +40,8 @@ enum ftype {
 	F_LEVEL,	/* enum level: OK, WARN, ERROR, STALE */
 	F_WHEN,		/* bool: "enter" false, "leave" true */
 	F_SIGNAL,	/* int signal number: USR1, SIGTERM, 10 */
+	F_STACKS,	/* __u32 enum rtsup_stacks: off, fp, dwarf, auto */
+	F_STACKSIZE,	/* __u32 bytes: "8K", 512 to 64K, 8-aligned */
 };
 
 struct field {

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "config/fields.h"
+#include "config/stackopt.h"
 #include "can.h"
 
 #define N(m)	offsetof(struct can_node, m)
@@ -188,6 +189,13 @@ static void fmt_value(char *buf, size_t len, const struct field *f, const void *
 		break;
 	case F_SIGNAL:
 		snprintf(buf, len, "%s", signal_name(*(const int *)src));
+		break;
+	case F_STACKS:
+		snprintf(buf, len, "%s", stacks_name(*(const __u32 *)src));
+		break;
+	case F_STACKSIZE:
+		i = *(const __u32 *)src;
+		snprintf(buf, len, i % 1024 ? "%d" : "%dK", i % 1024 ? i : i / 1024);
 		break;
 	default:
 		buf[0] = '\0';

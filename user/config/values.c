@@ -11,6 +11,7 @@
 #include <string.h>
 #include <strings.h>
 #include "config/fields.h"
+#include "config/stackopt.h"
 #include "can.h"
 #include "model/syscalls.h"
 
@@ -386,6 +387,15 @@ int cfg_parse_field(struct parse *p, const struct field *f, yaml_node_t *v,
 		if (signal_parse(s) < 0)
 			return cfg_fail(p, v, "unknown signal '%s' (want e.g. USR1, TERM or 10)", s);
 		*(int *)dst = signal_parse(s);
+		return 0;
+	case F_STACKS:
+		if (stacks_parse(s, dst))
+			return cfg_fail(p, v, "unknown stacks '%s' (want off, fp, dwarf or auto)", s);
+		return 0;
+	case F_STACKSIZE:
+		if (stack_size_parse(s, dst))
+			return cfg_fail(p, v, "bad stack_size '%s' (want bytes, a multiple of 8 "
+				    "from 512 to 64K, e.g. 8K)", s);
 		return 0;
 	default:
 		return parse_number(p, f, v, name, dst);

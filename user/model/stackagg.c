@@ -41,6 +41,13 @@ static struct stack_entry *find(struct stackagg *a, __u32 tid, __u32 reason, __u
 int stackagg_add(struct stackagg *a, __u32 tid, __u32 tgid, const char *comm, __u32 reason,
 		 __u32 nr, const struct stack_frame *f, int n)
 {
+	return stackagg_add_kind(a, tid, tgid, comm, reason, nr, 0, f, n);
+}
+
+int stackagg_add_kind(struct stackagg *a, __u32 tid, __u32 tgid, const char *comm,
+		      __u32 reason, __u32 nr, __u32 kind, const struct stack_frame *f, int n)
+{
+	__u32 bit = kind && kind < 32 ? 1u << kind : 0;
 	__u64 hash;
 	struct stack_entry *e;
 
@@ -52,6 +59,7 @@ int stackagg_add(struct stackagg *a, __u32 tid, __u32 tgid, const char *comm, __
 	e = find(a, tid, reason, nr, hash);
 	if (e) {
 		e->total++;
+		e->kinds |= bit;
 		return 0;
 	}
 	if (a->n >= STACKAGG_MAX) {
@@ -85,6 +93,7 @@ int stackagg_add(struct stackagg *a, __u32 tid, __u32 tgid, const char *comm, __
 	e->nr = nr;
 	e->hash = hash;
 	e->total = 1;
+	e->kinds = bit;
 	snprintf(e->comm, sizeof(e->comm), "%s", comm ? comm : "");
 	a->n++;
 	return 0;

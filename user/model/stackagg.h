@@ -39,6 +39,7 @@ struct stack_entry {
 	__u64 hash;		/* stack_hash of the frames */
 	__u64 total;		/* events over the run */
 	__u64 prev;		/* total at the end of the previous interval */
+	__u32 kinds;		/* 1 << enum rtsup_stacks of each unwinder that took it */
 	char comm[RTSUP_COMM_LEN];
 	int nframes;
 	struct stack_frame *frames;
@@ -58,6 +59,9 @@ __u64 stack_hash(const struct stack_frame *f, int n);
 /* stackagg_add - one event from this stack; 0, or -1 when it was only counted */
 int stackagg_add(struct stackagg *a, __u32 tid, __u32 tgid, const char *comm, __u32 reason,
 		 __u32 nr, const struct stack_frame *f, int n);
+/* stackagg_add_kind - the same, taken by the unwinder kind (0: not known) */
+int stackagg_add_kind(struct stackagg *a, __u32 tid, __u32 tgid, const char *comm,
+		      __u32 reason, __u32 nr, __u32 kind, const struct stack_frame *f, int n);
 /* stackagg_interval_end - the interval's counts start again from here */
 void stackagg_interval_end(struct stackagg *a);
 /* stack_entry_interval - the entry's events in the interval */

@@ -161,7 +161,8 @@ static void on_stack(struct replay *r, const struct rec_stack *rs)
 	n = unwind_offline_pcs(u, rs->tgid, rs->pcs, rs->npcs < RTSUP_STACK_DEPTH ?
 			       rs->npcs : RTSUP_STACK_DEPTH, frames, STACK_MAX_FRAMES);
 	r->c.stacks.records++;
-	stackagg_add(&r->c.stacks, rs->tid, rs->tgid, NULL, rs->reason, rs->nr, frames, n);
+	stackagg_add_kind(&r->c.stacks, rs->tid, rs->tgid, NULL, rs->reason, rs->nr, rs->kind,
+			  frames, n);
 	if (!r->pf)
 		return;
 	stack_what(&e, what, sizeof(what));

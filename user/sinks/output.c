@@ -18,7 +18,7 @@
 /* stacks_shown - --stacks live, or a replayed trace that has stacks */
 static bool stacks_shown(const struct collector *c)
 {
-	return c->o->stacks || c->unwinder;
+	return c->o->stack_any || c->unwinder;
 }
 
 static const char *const event_names[] = {

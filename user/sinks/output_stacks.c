@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
 /* output_stacks.c - where in the code: stacks of RT-unsafe events, table and JSON */
 #include <string.h>
+#include "config/stackopt.h"
 #include "model/syscalls.h"
 #include "sinks/output_stacks.h"
 
@@ -104,6 +105,18 @@ static json_t *frame_json(const struct stack_frame *f)
 	return o;
 }
 
+/* kinds_json - the unwinders that took a stack: ["fp"], ["dwarf"] or both (auto, rules) */
+static json_t *kinds_json(__u32 kinds)
+{
+	json_t *arr = json_array();
+	__u32 k;
+
+	for (k = RTSUP_STACKS_FP; k <= RTSUP_STACKS_DWARF; k++)
+		if (kinds & (1u << k))
+			json_array_append_new(arr, json_string(stacks_name(k)));
+	return arr;
+}
+
 json_t *stacks_json(const struct stackagg *a, __u32 tid, bool window)
 {
 	json_t *arr = json_array(), *frames, *o;
@@ -124,6 +137,8 @@ json_t *stacks_json(const struct stackagg *a, __u32 tid, bool window)
 		if (e->reason == RTSUP_U_SYSCALL)
 			json_object_set_new(o, "syscall", syscall_name(e->nr) ?
 					    json_string(syscall_name(e->nr)) : json_integer(e->nr));
+		if (e->kinds)
+			json_object_set_new(o, "unwinders", kinds_json(e->kinds));
 		json_array_append_new(arr, o);
 	}
 	return arr;

@@ -98,7 +98,7 @@ struct rec_stack {
 	__u32 reason;		/* enum rtsup_unsafe, RTSUP_STACK_FAULT */
 	__u32 nr;
 	__u32 npcs;
-	__u32 pad;
+	__u32 kind;		/* the unwinder, enum rtsup_stacks (0 in older recordings) */
 	__u64 pcs[RTSUP_STACK_DEPTH];	/* the exact pc, then return addresses */
 };
 

@@ -152,6 +152,7 @@ static int record_stack(struct sinks *sk, const struct rtsup_stack_rec *r,
 	rs.tgid = r->tgid;
 	rs.reason = r->reason;
 	rs.nr = r->nr;
+	rs.kind = r->kind;
 	for (i = 0; i < n && i < RTSUP_STACK_DEPTH; i++)
 		rs.pcs[i] = f[i].pc;
 	rs.npcs = i;

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
-/* test_procmaps.c - /proc/PID/maps lines: code of files only, deleted noticed */
+/* test_procmaps.c - /proc/PID/maps lines: code of files and the vDSO, deleted noticed */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -24,7 +24,7 @@ static void test_procmaps_code_of_a_file(void **state)
 	assert_false(m.deleted);
 }
 
-/* data, anonymous code (JIT), [vdso] and [stack] are no module */
+/* data, anonymous code (JIT) and [stack] are no module */
 static void test_procmaps_not_modules(void **state)
 {
 	struct procmap m;
@@ -33,10 +33,28 @@ static void test_procmaps_not_modules(void **state)
 					     "123 /usr/bin/ctrl\n", &m), 0);
 	assert_int_equal(procmaps_parse_line("7f0000000000-7f0000001000 rwxp 00000000 00:00 0 \n",
 					     &m), 0);
-	assert_int_equal(procmaps_parse_line("7ffd5e1e5000-7ffd5e1e7000 r-xp 00000000 00:00 0"
-					     "                          [vdso]\n", &m), 0);
 	assert_int_equal(procmaps_parse_line("garbage\n", &m), -1);
 	assert_int_equal(procmaps_parse_line("2000-1000 r-xp 0 0:0 0 /x\n", &m), -1);
+}
+
+/* the vDSO: a module without a file (its image is in the process) */
+static void test_procmaps_vdso(void **state)
+{
+	struct procmap m;
+
+	assert_int_equal(procmaps_parse_line("7ffd5e1e5000-7ffd5e1e7000 r-xp 00000000 00:00 0"
+					     "                          [vdso]\n", &m), 1);
+	assert_true(procmap_is_vdso(&m));
+	assert_true(m.start == 0x7ffd5e1e5000ULL && m.pgoff == 0);
+	/* without a newline at the end too; [vvar] (data) and [vsyscall] are not it */
+	assert_int_equal(procmaps_parse_line("7ffd5e1e5000-7ffd5e1e7000 r-xp 00000000 00:00 0 "
+					     "[vdso]", &m), 1);
+	assert_int_equal(procmaps_parse_line("7ffd5e1e1000-7ffd5e1e5000 r--p 00000000 00:00 0 "
+					     "[vvar]\n", &m), 0);
+	assert_int_equal(procmaps_parse_line("ffffffffff600000-ffffffffff601000 --xp 00000000 "
+					     "00:00 0 [vsyscall]\n", &m), 0);
+	assert_int_equal(procmaps_parse_line("7ffd5e1e5000-7ffd5e1e7000 r-xp 00000000 00:00 0 "
+					     "[vdso]x\n", &m), 0);
 }
 
 /* a file deleted (or replaced by a new inode) while mapped */
@@ -61,10 +79,11 @@ static void test_procmaps_read_keeps_code_only(void **state)
 	struct procmap *v = NULL;
 
 	assert_non_null(f);
-	assert_int_equal(procmaps_read(f, &v), 2);
+	assert_int_equal(procmaps_read(f, &v), 3);
 	assert_string_equal(v[0].path, "/usr/bin/ctrl");
 	assert_true(v[0].start - v[0].pgoff == 0x55d0c2a39000ULL);	/* the load base */
 	assert_string_equal(v[1].path, "/usr/lib/libc.so.6");
+	assert_string_equal(v[2].path, "[vdso]");
 	free(v);
 	fclose(f);
 }
@@ -74,6 +93,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_procmaps_code_of_a_file),
 		cmocka_unit_test(test_procmaps_not_modules),
+		cmocka_unit_test(test_procmaps_vdso),
 		cmocka_unit_test(test_procmaps_deleted),
 		cmocka_unit_test(test_procmaps_read_keeps_code_only),
 	};

@@ -93,6 +93,8 @@ static void rule_equal(const struct rule *a, const struct rule *b)
 		assert_string_equal(a->delims[i], b->delims[i]);
 	assert_int_equal(a->policy, b->policy);
 	assert_int_equal(a->prio, b->prio);
+	assert_int_equal(a->stacks, b->stacks);
+	assert_int_equal(a->stack_size, b->stack_size);
 	assert_int_equal(a->nallow, b->nallow);
 	for (i = 0; i < a->nallow; i++)
 		assert_string_equal(a->allow[i], b->allow[i]);
@@ -228,6 +230,57 @@ static void test_config_warmup(void **state)
 	assert_int_equal(c.rules[0].ndelims, 5);
 	assert_string_equal(c.rules[0].delims[4], "futex");
 	assert_int_equal(c.rules[1].warmup_ns, 2000000000ULL);
+	config_free(&c);
+}
+
+static void round_trip(const char *path);
+
+/* stacks: and stack_size: per rule, over the defaults' (issue 15) */
+static void test_config_stacks(void **state)
+{
+	struct config c;
+	struct stack_plan p;
+
+	(void)state;
+	load_ok(DIR "stacks.yaml", &c);
+	assert_int_equal(c.defaults.stacks, RTSUP_STACKS_FP);
+	assert_int_equal(c.defaults.stack_size, 8192);
+	assert_int_equal(c.rules[0].stacks, RTSUP_STACKS_DWARF);
+	assert_int_equal(c.rules[0].stack_size, 16384);
+	assert_true(c.rules[0].set & RF_STACKS && c.rules[0].set & RF_STACK_SIZE);
+	assert_int_equal(c.rules[1].stacks, RTSUP_STACKS_OFF);
+	assert_int_equal(c.rules[2].stacks, RTSUP_STACKS_AUTO);
+	assert_int_equal(c.rules[2].stack_size, 4096);
+	/* a rule that says nothing of stacks has the defaults' */
+	assert_int_equal(c.rules[3].stacks, RTSUP_STACKS_FP);
+	assert_false(c.rules[3].set & (RF_STACKS | RF_STACK_SIZE));
+	/* what the kernel side is loaded with: the largest DWARF size, auto, rules */
+	config_stack_plan(&c, &p);
+	assert_int_equal(p.kind, RTSUP_STACKS_FP);
+	assert_int_equal(p.size, 8192);
+	assert_true(p.any && p.rules && p.dwarf && p.autos);
+	assert_int_equal(p.size_max, 16384);
+	config_free(&c);
+	round_trip(DIR "stacks.yaml");
+}
+
+/* the built-in defaults: stacks off, no rule asks for any */
+static void test_config_stack_plan_off(void **state)
+{
+	struct config c;
+	struct stack_plan p;
+
+	(void)state;
+	config_defaults(&c);
+	config_stack_plan(&c, &p);
+	assert_int_equal(p.kind, RTSUP_STACKS_OFF);
+	assert_false(p.any || p.rules || p.dwarf || p.autos);
+	assert_int_equal(p.size_max, 0);
+	/* fp everywhere: no DWARF room, nothing per thread */
+	c.defaults.stacks = RTSUP_STACKS_FP;
+	config_stack_plan(&c, &p);
+	assert_true(p.any);
+	assert_false(p.rules || p.dwarf);
 	config_free(&c);
 }
 
@@ -1018,6 +1071,11 @@ BAD(too_many_delims, "bad-too-many-delims.yaml",
 BAD(too_many_allow, "bad-too-many-allow.yaml",
     "2:85: too many syscalls in allow_syscalls (at most 8)")
 BAD(empty_delims, "bad-empty-delims.yaml", "2:19: cycle_syscalls must not be empty")
+BAD(stacks, "bad-stacks.yaml", "3:13: unknown stacks 'lbr' (want off, fp, dwarf or auto)")
+BAD(stack_size, "bad-stack-size.yaml",
+    "4:17: bad stack_size '100' (want bytes, a multiple of 8 from 512 to 64K, e.g. 8K)")
+BAD(stack_size_text, "bad-stack-size-text.yaml",
+    "2:15: bad stack_size '8K1' (want bytes, a multiple of 8 from 512 to 64K, e.g. 8K)")
 BAD(policy, "bad-policy.yaml",
     "2:11: unknown policy 'SCHED_FAST' (want SCHED_FIFO, SCHED_RR, SCHED_DEADLINE, "
     "SCHED_OTHER, SCHED_BATCH, SCHED_IDLE or any)")
@@ -1140,9 +1198,14 @@ int main(void)
 		T(bad_syscall_newline),
 		T(bad_cycle_syscall),
 		cmocka_unit_test(test_config_warmup),
+		cmocka_unit_test(test_config_stacks),
+		cmocka_unit_test(test_config_stack_plan_off),
 		T(bad_too_many_delims),
 		T(bad_too_many_allow),
 		T(bad_empty_delims),
+		T(bad_stacks),
+		T(bad_stack_size),
+		T(bad_stack_size_text),
 		T(bad_policy),
 		T(bad_unsafe_reason),
 		T(bad_no_name),

@@ -53,6 +53,27 @@ static void test_stackagg_same_stack_counts_once(void **state)
 }
 
 /* thread, reason, syscall and any frame tell entries apart */
+/* auto and rules: one stack may be taken by either unwinder; each is noted, not counted apart */
+static void test_stackagg_kinds(void **state)
+{
+	struct stackagg a = { 0 };
+	struct stack_frame f[3];
+
+	(void)state;
+	ctrl_stack(f);
+	assert_int_equal(stackagg_add_kind(&a, 7, 7, "ctrl", RTSUP_U_SYSCALL, 9,
+					   RTSUP_STACKS_DWARF, f, 3), 0);
+	assert_int_equal(a.e[0].kinds, 1u << RTSUP_STACKS_DWARF);
+	stackagg_add_kind(&a, 7, 7, "ctrl", RTSUP_U_SYSCALL, 9, RTSUP_STACKS_FP, f, 3);
+	assert_int_equal(a.n, 1);
+	assert_int_equal(a.e[0].total, 2);
+	assert_int_equal(a.e[0].kinds, (1u << RTSUP_STACKS_DWARF) | (1u << RTSUP_STACKS_FP));
+	/* unknown (an older recording): nothing noted */
+	stackagg_add(&a, 8, 8, "ctrl", RTSUP_U_SYSCALL, 9, f, 3);
+	assert_int_equal(a.e[1].kinds, 0);
+	stackagg_free(&a);
+}
+
 static void test_stackagg_keys(void **state)
 {
 	struct stackagg a = { 0 };
@@ -184,6 +205,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_stackagg_same_stack_counts_once),
 		cmocka_unit_test(test_stackagg_keys),
+		cmocka_unit_test(test_stackagg_kinds),
 		cmocka_unit_test(test_stackagg_hash_by_module_offset),
 		cmocka_unit_test(test_stackagg_interval),
 		cmocka_unit_test(test_stackagg_full_counts),

@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/* stackopt.c - the words of --stacks and --stack-size, for the command line and the file */
+#include <string.h>
+#include "config/stackopt.h"
+#include "config/strict.h"
+#include "rtsup.h"
+
+/* enum rtsup_stacks by its word: the table reads both ways */
+static const char *const stacks_names[] = {
+	[RTSUP_STACKS_OFF] = "off",
+	[RTSUP_STACKS_FP] = "fp",
+	[RTSUP_STACKS_DWARF] = "dwarf",
+	[RTSUP_STACKS_AUTO] = "auto",
+};
+
+int stacks_parse(const char *s, __u32 *out)
+{
+	__u32 i;
+
+	for (i = 0; i < sizeof(stacks_names) / sizeof(stacks_names[0]); i++)
+		if (!strcmp(s, stacks_names[i])) {
+			*out = i;
+			return 0;
+		}
+	return -1;
+}
+
+const char *stacks_name(__u32 kind)
+{
+	return kind < sizeof(stacks_names) / sizeof(stacks_names[0]) ? stacks_names[kind] : "?";
+}
+
+int stack_size_parse(const char *s, __u32 *out)
+{
+	char buf[16];
+	size_t n = strlen(s);
+	long v, mul = 1;
+
+	if (!n || n >= sizeof(buf))
+		return -1;
+	memcpy(buf, s, n + 1);
+	if (buf[n - 1] == 'K' || buf[n - 1] == 'k') {
+		mul = 1024;
+		buf[n - 1] = '\0';
+	}
+	if (strict_long(buf, 1, RTSUP_STACK_DUMP_MAX, &v) || v * mul > RTSUP_STACK_DUMP_MAX ||
+	    v * mul < 512 || (v * mul) % 8)
+		return -1;
+	*out = v * mul;
+	return 0;
+}
