@@ -13,6 +13,7 @@
 #include "collect/collector.h"
 #include "collect/liveness.h"
 #include "cycle.h"
+#include "rtfollow.h"
 #include "collect/targets.h"
 #include "collect/unwind.h"
 #include "model/syscalls.h"
@@ -173,8 +174,9 @@ static int on_cycle_rec(void *ctx, void *data, size_t len)
 }
 
 /* add_initial - a thread found by the start-up scan goes into the maps */
-static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, bool process)
+static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, unsigned int how)
 {
+	bool process = how & TARGET_PROCESS;
 	struct collector *c = ctx;
 	struct rtsup_thread *t = calloc(1, sizeof(*t));
 	__u32 key = tid, one = 1, k = tgid;
@@ -184,6 +186,9 @@ static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, bool 
 		return -ENOMEM;
 	cycle_thread_init(t, tid, tgid, mono_now());
 	strncpy(t->comm, comm, RTSUP_COMM_LEN - 1);
+	/* --rt alone: let go when it leaves RT (rtfollow.h) */
+	if (how & TARGET_RT)
+		t->rt = RTSUP_RT_ONLY;
 	if (process)
 		bpf_map_update_elem(bpf_map__fd(c->skel->maps.tgids), &k, &one, BPF_ANY);
 	/* the hooks look a thread up only when its bits are set (rtsup.h) */
@@ -622,9 +627,12 @@ void collector_reap(struct collector *c)
 
 		for (j = 0; j < tm->nsys; j++)
 			tm->sys[j].prev = tm->sys[j].total;
-		if (tm->alive || tm->reported_exit)
+		if ((tm->alive && !(tm->cur.rt & RTSUP_RT_LEFT)) || tm->reported_exit)
 			continue;
-		/* reported once: the kernel entry is freed, the model keeps the numbers */
+		/*
+		 * reported once: the kernel entry is freed, the model keeps the
+		 * numbers; so is a thread that left RT under --rt (rtfollow.h)
+		 */
 		tm->reported_exit = true;
 		if (!same_thread(c, fd, tm))
 			continue;	/* a new thread has the tid already (add_thread) */

@@ -6,6 +6,7 @@
 #include <time.h>
 #include "judge/supervise.h"
 #include "model/syscalls.h"
+#include "rtfollow.h"
 
 void supervise_init(struct supervisor *s, struct config *cfg)
 {
@@ -200,6 +201,7 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 		in.expect_run = tm->rule >= 0;
 		in.kthread = tm->kthread;
 		in.alive = tm->alive;
+		in.left_rt = tm->cur.rt & RTSUP_RT_LEFT;
 		in.policy = tm->policy;
 		in.prio = tm->prio;
 		in.now_ns = now;

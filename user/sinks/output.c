@@ -12,6 +12,7 @@
 #include "model/syscalls.h"
 #include "sinks/output_can.h"
 #include "sinks/output_stacks.h"
+#include "rtfollow.h"
 
 #define MAX_EVENT_LINES 10
 
@@ -247,6 +248,9 @@ static json_t *json_thread(const struct collector *c, const struct supervisor *s
 			json_object_set_new(o, "exit_cycle_unsafe",
 					    json_unsafe(tm->cur.exit_unsafe));
 	}
+	/* --rt let it go: it left RT (rtfollow.h) */
+	if (tm->cur.rt & RTSUP_RT_LEFT)
+		json_object_set_new(o, "left_rt", json_true());
 	json_object_set_new(o, "process", json_string(tm->pcomm));
 	json_object_set_new(o, "kernel_thread", json_boolean(tm->kthread));
 	json_object_set_new(o, "status", json_status(&tm->st));
