@@ -219,6 +219,7 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 		check_thread(&in, &st);
 		old = tm->st;
 		tm->st = st;
+		tm->level_changed = st.level != old.level;
 		component_name(tm, comp, sizeof(comp));
 		judge(s, comp, &old, &st, &tm->worst, now, tm);
 	}
