@@ -2,6 +2,7 @@
 """rtsup-trace against rtsup-loadgen: the numbers it reports are the truth."""
 import json
 import os
+import re
 import subprocess
 import threading
 import time
@@ -990,3 +991,96 @@ def test_rt_lets_go_of_a_thread_that_leaves_rt(tmp_path):
     seen = [i for i, iv in enumerate(intervals) if any(x["tid"] == pid for x in iv["threads"])]
     assert seen and seen == list(range(seen[0], seen[-1] + 1)), seen
     assert seen[-1] < len(intervals) - 3, (seen, len(intervals))
+
+
+# a thread's row: TID, COMM (15 wide), POL/PRI or "exited", CYCLES
+TABLE_ROW = re.compile(r"^ *\d+ .{15} (\S+/-?\d+|exited) +\d+ ")
+
+
+def table_run(tmp_path, nthreads, extra):
+    """rtsup-trace's table (not JSON) over a generator of nthreads threads
+    that runs about 2 s and is then parked: [(live threads in the title,
+    [(tid, status)], cut)] per interval, and the summary's table alike."""
+    go = tmp_path / "go"
+    # 40 threads at 100 Hz (20 Hz emulated, where 100 Hz overwhelms the guest)
+    period = 50000 if EMULATED else 10000
+    lg = Loadgen(tmp_path, ["-n", str(nthreads), "-P", str(period), "-w", "100",
+                            "-c", str(2000000 // period), "-r", "50", "--wait-file", str(go)])
+    tr = subprocess.Popen([str(TRACE), "-p", str(lg.pid), "-i", "500ms", "--color", "never"]
+                          + extra, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        assert "tracing with" in tr.stderr.readline()
+        go.touch()
+        lg.summary()
+        time.sleep(1.2)  # two intervals with the threads parked
+        tr.send_signal(__import__("signal").SIGINT)
+        out, err = tr.communicate(timeout=60)
+    finally:
+        lg.stop()
+        if tr.poll() is None:
+            tr.kill()
+    assert tr.returncode == 0, err
+    tables, cur = [], None
+    for line in out.splitlines():
+        if line.startswith("rtsup-trace "):
+            # an interval's title counts the threads alive, the summary's all
+            m = re.search(r"  threads (\d+)  |: (\d+) threads,", line)
+            cur = [int(m.group(1) or m.group(2)), [], 0]
+            tables.append(cur)
+        elif cur and TABLE_ROW.match(line):
+            f = line.split()
+            cur[1].append((int(f[0]), f[-1]))
+        elif cur and "more threads, all OK (--all shows every thread)" in line:
+            cur[2] = int(line.split("...")[1].split()[0])
+    assert tables, out
+    return lg.pid, tables, out
+
+
+def test_table_shows_not_ok_and_the_worst_10(tmp_path):
+    """40 threads: each interval's table lists every thread that is not OK,
+    10 of the OK ones and one line for the rest (issue 19)."""
+    n = 40
+    pid, tables, out = table_run(tmp_path, n, [])
+    for live, rows, cut in tables:
+        ok = [tid for tid, st in rows if st == "OK"]
+        # the title counts the threads alive; all of them are in the model
+        assert len(rows) + cut == live, (live, rows, cut)
+        assert len(ok) == min(10, live - (len(rows) - len(ok))), rows
+        assert (cut > 0) == (live > len(rows)), (live, rows, cut)
+    # with the generator's 41 threads alive and fewer than 31 not OK, a cut
+    assert any(cut for live, rows, cut in tables if live == n + 1), out
+
+
+def test_table_all_shows_every_thread(tmp_path):
+    """--all: every thread in every interval, no cut line."""
+    n = 40
+    pid, tables, out = table_run(tmp_path, n, ["--all"])
+    assert any(live == n + 1 for live, _, _ in tables), out
+    for live, rows, cut in tables:
+        assert cut == 0 and len(rows) == live, (live, len(rows), cut)
+
+
+def test_json_threads_active_lists_what_ran(tmp_path):
+    """--json-threads active: while the generator runs its threads are in
+    the intervals, once they are parked (no cycle, no switch) they are
+    counted in threads_not_listed; the summary lists them all."""
+    n = 8
+    go = tmp_path / "go"
+    lg = Loadgen(tmp_path, ["-n", str(n), "-c", str(1500000 // PERIOD_US),
+                            "--wait-file", str(go)])
+    tr = Trace(["-p", str(lg.pid), "-i", "300ms", "--json-threads", "active"])
+    try:
+        go.touch()
+        truth = lg.summary()
+        time.sleep(1.5)  # parked for five intervals
+        intervals, summary, err = tr.stop()
+    finally:
+        lg.stop()
+    workers = {t["tid"] for t in truth["threads"]}
+    listed = [{t["tid"] for t in i["threads"]} for i in intervals]
+    assert any(workers <= s for s in listed), listed
+    # the last intervals: all parked, none listed, every one counted
+    for i in intervals[-2:]:
+        assert not workers & {t["tid"] for t in i["threads"]}, i["threads"]
+        assert i["threads_not_listed"] >= n, i["threads_not_listed"]
+    assert workers <= set(threads_by_tid(summary)), err
