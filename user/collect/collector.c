@@ -337,17 +337,35 @@ static void rematch(struct thread_model *tm)
 	tm->cfg_gen = 0;
 }
 
+/*
+ * process_name - the process's name, read once per sample for all its
+ * threads (a thousand threads of one process read it a thousand times)
+ */
+static void process_name(struct collector *c, const struct thread_model *tm, char *pcomm)
+{
+	struct collector_pname *p = &c->pnames[tm->tgid % COLLECTOR_PNAMES];
+
+	if (p->tgid == tm->tgid && p->seq == c->sample_seq) {
+		memcpy(pcomm, p->comm, RTSUP_COMM_LEN);
+		return;
+	}
+	if (thread_comm(tm->tgid, tm->tgid, pcomm, RTSUP_COMM_LEN))
+		snprintf(pcomm, RTSUP_COMM_LEN, "%s", tm->comm);
+	comm_sanitize(pcomm, RTSUP_COMM_LEN);
+	p->tgid = tm->tgid;
+	p->seq = c->sample_seq;
+	memcpy(p->comm, pcomm, RTSUP_COMM_LEN);
+}
+
 /* refresh_identity - names, cgroup and scheduling attributes of a live thread */
-static void refresh_identity(struct thread_model *tm)
+static void refresh_identity(struct collector *c, struct thread_model *tm)
 {
 	char pcomm[RTSUP_COMM_LEN], cg[sizeof(tm->cgroup)];
 	struct sched_param sp;
 
 	if (!tm->pcomm[0])
 		tm->kthread = thread_is_kernel(tm->tgid, tm->tid);
-	if (thread_comm(tm->tgid, tm->tgid, pcomm, sizeof(pcomm)))
-		snprintf(pcomm, sizeof(pcomm), "%s", tm->comm);
-	comm_sanitize(pcomm, sizeof(pcomm));
+	process_name(c, tm, pcomm);
 	read_cgroup(tm->tgid, tm->tid, cg, sizeof(cg));
 	if (strcmp(pcomm, tm->pcomm) || strcmp(cg, tm->cgroup)) {
 		memcpy(tm->pcomm, pcomm, sizeof(pcomm));
@@ -414,7 +432,7 @@ static int take(struct collector *c, __u32 tid, const struct rtsup_thread *t)
 	tm->alive = !thread_dead(false, true, t->exited) &&
 		    !(idle_in_window(tm) && thread_gone(t->tgid, tid));
 	if (tm->alive)
-		refresh_identity(tm);
+		refresh_identity(c, tm);
 	else
 		tm->policy = -1;
 	return 0;
@@ -542,6 +560,7 @@ int collector_sample(struct collector *c)
 
 	epoch_flip(c);
 	update_clocks(c);
+	c->sample_seq++;	/* process names are read again */
 	collector_poll(c, 0);
 	/* what came in the interval (the poll above was its last), in time order */
 	eventlog_finish(&c->events);
