@@ -25,7 +25,7 @@ static const char doc[] =
 "                   [-i INTERVAL] [-d DURATION] [-j] [-v] [--config FILE]\n"
 "                   [--check [--fail-on warn|error]] [--record FILE] [--perfetto FILE]\n"
 "                   [--hist[=METRIC,...] [--hist-interval]] [--stacks fp|dwarf|off]\n"
-"                   [-- CMD [ARGS...]]\n"
+"                   [--top N | --all] [--json-threads all|active] [-- CMD [ARGS...]]\n"
 "       rtsup-trace replay FILE [--config FILE] [-j] [--check] [--perfetto FILE]\n"
 "                   [--hist[=METRIC,...]] [-q]\n"
 "       rtsup-trace --check-config FILE\n"
