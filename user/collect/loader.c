@@ -142,17 +142,30 @@ static int floor_start(struct loader *l, const struct options *o)
 {
 	struct rtsup_empty_bpf *e = rtsup_empty_bpf__open();
 	struct bpf_map *m;
+	int err;
 
 	if (!e)
 		return -errno;
 	l->floor = e;
 	select_programs(e->obj, l->tp_btf, o->can, l->fault_stacks, l->rt_hook);
+	bpf_program__set_autoattach(e->progs.rt_setsched, false);
 	/* its maps are never used: keep them small */
 	bpf_object__for_each_map(m, e->obj)
 		if (bpf_map__type(m) != BPF_MAP_TYPE_RINGBUF)
 			bpf_map__set_max_entries(m, 1);
-	return rtsup_empty_bpf__load(e) ?: rtsup_empty_bpf__attach(e);
+	err = rtsup_empty_bpf__load(e) ?: rtsup_empty_bpf__attach(e);
+	/* an empty body where fexit attaches, none where it cannot */
+	if (!err && l->rt_hook)
+		e->links.rt_setsched = bpf_program__attach(e->progs.rt_setsched);
+	return err;
 }
+
+/*
+ * The kernel's BTF may have __sched_setscheduler where fexit cannot attach
+ * to it (Debian's arm64 6.1: ENOTSUPP): then everything is loaded again
+ * without the policy hook, which --rt replaces by its per-switch read.
+ */
+static bool rt_hook_failed;
 
 int loader_start(struct loader *l, const struct options *o)
 {
@@ -183,8 +196,11 @@ int loader_start(struct loader *l, const struct options *o)
 		fprintf(stderr, "rtsup-trace: --stacks: no page_fault_user tracepoint on this "
 				"kernel: page faults are counted without their stacks\n");
 	/* --rt: policy changes found where they happen, not at every switch */
-	l->rt_hook = o->targets.rt && l->tp_btf && has_function(RTSUP_RT_HOOK_FN);
+	l->rt_hook = o->targets.rt && l->tp_btf && !rt_hook_failed &&
+		     has_function(RTSUP_RT_HOOK_FN);
 	select_programs(s->obj, l->tp_btf, o->can, l->fault_stacks, l->rt_hook);
+	/* attached on its own below, to know that it failed */
+	bpf_program__set_autoattach(s->progs.rt_setsched, false);
 	if (o->floor)	/* none of ours: floor_start attaches the empty ones */
 		bpf_object__for_each_program(p, s->obj)
 			bpf_program__set_autoload(p, false);
@@ -251,6 +267,14 @@ int loader_start(struct loader *l, const struct options *o)
 		}
 	}
 	err = rtsup_bpf__attach(s);
+	if (!err && l->rt_hook && !o->floor) {
+		s->links.rt_setsched = bpf_program__attach(s->progs.rt_setsched);
+		if (!s->links.rt_setsched) {
+			loader_stop(l);
+			rt_hook_failed = true;
+			return loader_start(l, o);
+		}
+	}
 	if (!err && o->floor)
 		err = floor_start(l, o);
 	if (err) {
