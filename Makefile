@@ -211,6 +211,7 @@ UNIT_DEPS_test_model  := user/model/model.c
 UNIT_DEPS_test_eventlog := user/model/eventlog.c
 UNIT_DEPS_test_causes := user/model/causes.c user/model/syscalls.c
 UNIT_DEPS_test_histdraw := user/sinks/histdraw.c
+UNIT_DEPS_test_rowcut := user/sinks/rowcut.c
 UNIT_DEPS_test_progress := user/sinks/progress.c
 UNIT_DEPS_test_syscalls := user/model/syscalls.c
 UNIT_DEPS_test_config := $(CONFIG_SRCS) user/model/syscalls.c user/config/actionspec.c user/judge/status.c

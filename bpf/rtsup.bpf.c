@@ -28,6 +28,7 @@ static __always_inline void zero_mem(void *p, __u32 n);
 #include "cause.h"
 #include "can.h"
 #include "stackcfg.h"
+#include "rtfollow.h"
 
 /*
  * TREAD - a field of a task_struct or sk_buff argument: tp_btf programs get
@@ -46,9 +47,6 @@ static __always_inline void zero_mem(void *p, __u32 n);
 			      PT_REGS_PARM##n##_CORE_SYSCALL(regs))
 
 #define TIMER_ABSTIME	1
-#define SCHED_FIFO	1
-#define SCHED_RR	2
-#define SCHED_DEADLINE	6
 #define S_IFMT		00170000
 #define S_IFREG		0100000
 #define S_IFCHR		0020000
@@ -59,6 +57,8 @@ const volatile __u32 cfg_ewma_w = 102;	/* 0.1 of RTSUP_EWMA_ONE */
 const volatile __u64 cfg_period;	/* nominal period fallback, ns */
 const volatile __u64 cfg_warmup;	/* defaults' warmup: until a rule's is applied */
 const volatile __u32 cfg_rt;		/* --rt: every RT thread */
+/* --rt without the policy hooks (rt_setsched): a new RT thread is found at its switch-in */
+const volatile __u32 cfg_rt_at_switch;
 const volatile __u32 cfg_cgroup;	/* --cgroup: match map cgroup */
 const volatile __u32 cfg_ncomm;
 const volatile __u32 cfg_record;	/* send every finished cycle (--record) */
@@ -713,7 +713,7 @@ static __always_inline struct rtsup_thread *add_thread(struct task_struct *task,
 	 */
 	t = bpf_map_lookup_elem(&threads, &tid);
 	if (!t) {
-		/* a thread, once: --rt tries again at every switch-in */
+		/* a thread, once: --rt at switch-ins tries again at every one */
 		tgid = BPF_CORE_READ(task, tgid);
 		if (!bpf_map_update_elem(&untracked, &tid, &tgid, BPF_NOEXIST))
 			count(RTSUP_C_MAP_FULL);
@@ -722,10 +722,11 @@ static __always_inline struct rtsup_thread *add_thread(struct task_struct *task,
 	if (err) {
 		/*
 		 * Every caller has a live task: an entry of a thread that exited
-		 * (not reaped yet) belongs to a new thread that reuses the tid.
-		 * It starts as new, with its own first_seen (userspace's check).
+		 * (not reaped yet) belongs to a new thread that reuses the tid,
+		 * one that left RT (rtfollow.h) is followed again. It starts as
+		 * new, with its own first_seen (userspace's check).
 		 */
-		if (!t->exited)
+		if (!rt_entry_stale(t))
 			return t;
 		zero_mem(t, sizeof(*t));
 	}
@@ -1039,13 +1040,26 @@ static __always_inline struct rtsup_thread *lookup_or_hold(__u32 next_tid, int *
 	return NULL;
 }
 
-/* rt_adopt - --rt: a SCHED_FIFO, RR or DEADLINE thread is added at its switch-in */
+/* rt_add - --rt: an RT thread becomes a target; RTSUP_RT_ONLY when it is nothing else */
+static __always_inline struct rtsup_thread *rt_add(struct task_struct *task)
+{
+	__u64 now = bpf_ktime_get_ns();
+	struct rtsup_thread *t = add_thread(task, now);
+
+	/* added now, not a target already (-p, --comm, --cgroup) */
+	if (t && t->first_seen == now)
+		t->rt = RTSUP_RT_ONLY;
+	return t;
+}
+
+/*
+ * rt_adopt - --rt without the policy hooks (cfg_rt_at_switch): a SCHED_FIFO,
+ * RR or DEADLINE thread is added at its switch-in
+ */
 static __always_inline struct rtsup_thread *rt_adopt(struct task_struct *next, const int btf)
 {
-	int policy = TREAD(btf, next, policy);
-
-	if (policy == SCHED_FIFO || policy == SCHED_RR || policy == SCHED_DEADLINE)
-		return add_thread(next, bpf_ktime_get_ns());
+	if (rt_policy(TREAD(btf, next, policy)))
+		return rt_add(next);
 	return NULL;
 }
 
@@ -1091,7 +1105,7 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 		why_switch(&ws[0], prev, prev_tid, next_tid, btf);
 	if (ws && ws[1].tid && !(ws[1].state & WHY_RAN))
 		why_switch(&ws[1], prev, prev_tid, next_tid, btf);
-	if (!maybe_target(prev_tid) && !maybe_target(next_tid) && !cfg_rt)
+	if (!maybe_target(prev_tid) && !maybe_target(next_tid) && !cfg_rt_at_switch)
 		return 0;
 	/* one side is usually no target (idle, a kworker): no lookup for it */
 	pt = settle_prev(prev_tid, &r);
@@ -1099,7 +1113,7 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 	if (pt)
 		why_settle(pt);
 	nt = lookup_or_hold(next_tid, &hold);
-	if (!nt && !hold && cfg_rt && next_tid)
+	if (!nt && !hold && cfg_rt_at_switch && next_tid)
 		nt = rt_adopt(next, btf);
 	/* keeps clang from OR-ing the two pointers, which the verifier refuses */
 	barrier_var(nt);
@@ -1231,6 +1245,35 @@ static __always_inline int on_fork(struct task_struct *parent, struct task_struc
 	if (bpf_map_lookup_elem(&tgids, &tgid) ||
 	    (cfg_cgroup && bpf_current_task_under_cgroup(&cgroup, 0) == 1))
 		add_thread(child, bpf_ktime_get_ns());
+	/* --rt: the child of an RT thread is RT too, unless SCHED_RESET_ON_FORK */
+	else if (cfg_rt && rt_policy(BPF_CORE_READ(child, policy)))
+		rt_add(child);
+	return 0;
+}
+
+/*
+ * on_setsched - --rt: a thread's policy changed (rtfollow.h). Once per
+ * change, instead of a policy read at every switch-in: an RT thread is
+ * adopted, one that --rt alone followed and that left RT is marked for
+ * userspace to let go.
+ */
+static __always_inline int on_setsched(struct task_struct *p)
+{
+	__u32 tid = p->pid, tgid = p->tgid;
+	struct rtsup_thread *t = maybe_target(tid) ? bpf_map_lookup_elem(&threads, &tid) : NULL;
+
+	switch (rt_on_policy(p->policy, t)) {
+	case RT_ADOPT:
+		rt_add(p);
+		break;
+	case RT_LET_GO:
+		/* its process became a target meanwhile (--comm, exec, -- CMD): kept */
+		if (t && !bpf_map_lookup_elem(&tgids, &tgid))
+			t->rt |= RTSUP_RT_LEFT;
+		break;
+	default:
+		break;
+	}
 	return 0;
 }
 
@@ -1712,6 +1755,16 @@ SEC(kind "/page_fault_user")							\
 int BPF_PROG(page_fault_user_##sfx, unsigned long address, struct pt_regs *regs,	\
 	     unsigned long error_code)						\
 { return BODY(on_fault()); }
+
+/*
+ * --rt's policy hook (rtfollow.h): every policy change goes through
+ * __sched_setscheduler. The loader keeps it only where the kernel's BTF
+ * has the function; elsewhere cfg_rt_at_switch looks at every switch-in.
+ */
+SEC("fexit/__sched_setscheduler")
+int BPF_PROG(rt_setsched, struct task_struct *p, const struct sched_attr *attr, bool user,
+	     bool pi, int ret)
+{ return BODY(on_setsched(p)); }
 
 RTSUP_PROGS("tp_btf", btf, 1)
 RTSUP_PROGS("raw_tp", raw, 0)

@@ -14,6 +14,7 @@
 #include "config/strict.h"
 #include "rtsup.h"
 #include "judge/status.h"
+#include "sinks/rowcut.h"
 
 const char *argp_program_version = "rtsup-trace 0.1";
 const char *argp_program_bug_address = "the rtsup issue tracker";
@@ -25,7 +26,7 @@ static const char doc[] =
 "                   [-i INTERVAL] [-d DURATION] [-j] [-v] [--config FILE]\n"
 "                   [--check [--fail-on warn|error]] [--record FILE] [--perfetto FILE]\n"
 "                   [--hist[=METRIC,...] [--hist-interval]] [--stacks fp|dwarf|auto|off]\n"
-"                   [-- CMD [ARGS...]]\n"
+"                   [--top N | --all] [--json-threads all|active] [-- CMD [ARGS...]]\n"
 "       rtsup-trace replay FILE [--config FILE] [-j] [--check] [--perfetto FILE]\n"
 "                   [--hist[=METRIC,...]] [-q]\n"
 "       rtsup-trace --check-config FILE\n"
@@ -75,6 +76,9 @@ enum {
 	OPT_STACK_SIZE,
 	OPT_STACK_BUDGET,
 	OPT_EVENT_BUFFER,
+	OPT_ALL,
+	OPT_TOP,
+	OPT_JSON_THREADS,
 };
 
 static const struct argp_option opts[] = {
@@ -86,6 +90,11 @@ static const struct argp_option opts[] = {
 	{ "interval", 'i', "TIME", 0, "Report interval (default 1s)", 0 },
 	{ "duration", 'd', "TIME", 0, "Stop after TIME (s/m/h suffixes; default: until Ctrl-C)", 0 },
 	{ "json", 'j', NULL, 0, "One JSON object per interval on stdout", 0 },
+	{ "json-threads", OPT_JSON_THREADS, "WHICH", 0,
+	  "Threads in each JSON interval: all (default) or active (ran, switched or changed level)", 0 },
+	{ "top", OPT_TOP, "N", 0,
+	  "The table shows every thread not OK and the worst N others (default 10)", 0 },
+	{ "all", OPT_ALL, NULL, 0, "The table shows every thread", 0 },
 	{ "verbose", 'v', NULL, 0, "Show libbpf's own messages", 0 },
 	{ "cycle-syscall", OPT_CYCLE_SYSCALL, "NAME[,NAME]", 0,
 	  "Syscalls that end a cycle (default clock_nanosleep,nanosleep)", 0 },
@@ -302,6 +311,22 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 		break;
 	case OPT_RAW_TP:
 		o->raw_tp = true;
+		break;
+	case OPT_ALL:
+		o->all = true;
+		break;
+	case OPT_TOP:
+		if (strict_long(arg, 0, 1 << 20, &v))
+			return bad(st, "--top", arg, "want a number from 0 to 1048576");
+		o->top = v;
+		break;
+	case OPT_JSON_THREADS:
+		if (!strcmp(arg, "all"))
+			o->json_active = false;
+		else if (!strcmp(arg, "active"))
+			o->json_active = true;
+		else
+			return bad(st, "--json-threads", arg, "want all or active");
 		break;
 	case OPT_COLOR:
 		if (!strcmp(arg, "auto"))
@@ -535,6 +560,7 @@ int options_parse_flags(int argc, char **argv, struct options *o, unsigned int f
 	o->interval = 1;
 	o->ewma_w = 102;
 	o->max_threads = RTSUP_DEFAULT_THREADS;
+	o->top = ROWCUT_TOP_DEFAULT;
 	o->color = -1;
 	o->delims[0] = "clock_nanosleep";
 	o->delims[1] = "nanosleep";

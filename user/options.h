@@ -13,6 +13,9 @@ struct options {
 	double interval;	/* s */
 	double duration;	/* s, 0 = until a signal */
 	bool json;
+	bool json_active;	/* --json-threads active: intervals list active threads only */
+	bool all;		/* --all: the table shows every thread */
+	int top;		/* --top: the worst N OK threads the table shows */
 	bool verbose;
 	bool raw_tp;		/* force the raw tracepoint programs */
 	const char *delims[SYSCALLS_MAX_DELIMS];

@@ -706,3 +706,17 @@ def test_bad_event_buffer_one_line(size):
     assert r.stderr.splitlines() == [
         "rtsup-trace: --event-buffer '%s': want a power of two from 64K to 256M (e.g. 4M)"
         % size], r.stderr
+
+
+@pytest.mark.parametrize("args,why", [
+    (["--top", "x"], "--top 'x': want a number from 0 to 1048576"),
+    (["--top", "-1"], "--top '-1': want a number from 0 to 1048576"),
+    (["--json-threads", "some"], "--json-threads 'some': want all or active"),
+    (["--json-threads", ""], "--json-threads '': want all or active"),
+])
+def test_bad_row_options_one_line(args, why):
+    """--top and --json-threads: a bad value is one line and exit 1."""
+    r = subprocess.run([str(TRACE)] + args + ["-p", "1"], capture_output=True, text=True,
+                       timeout=30)
+    assert r.returncode == 1
+    assert r.stderr.splitlines() == ["rtsup-trace: " + why], r.stderr

@@ -13,6 +13,7 @@
 #include "collect/collector.h"
 #include "collect/liveness.h"
 #include "cycle.h"
+#include "rtfollow.h"
 #include "collect/targets.h"
 #include "collect/unwind.h"
 #include "model/syscalls.h"
@@ -188,8 +189,9 @@ static int on_cycle_rec(void *ctx, void *data, size_t len)
 }
 
 /* add_initial - a thread found by the start-up scan goes into the maps */
-static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, bool process)
+static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, unsigned int how)
 {
+	bool process = how & TARGET_PROCESS;
 	struct collector *c = ctx;
 	struct rtsup_thread *t = calloc(1, sizeof(*t));
 	__u32 key = tid, one = 1, k = tgid;
@@ -199,6 +201,9 @@ static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, bool 
 		return -ENOMEM;
 	cycle_thread_init(t, tid, tgid, mono_now());
 	strncpy(t->comm, comm, RTSUP_COMM_LEN - 1);
+	/* --rt alone: let go when it leaves RT (rtfollow.h) */
+	if (how & TARGET_RT)
+		t->rt = RTSUP_RT_ONLY;
 	if (process)
 		bpf_map_update_elem(bpf_map__fd(c->skel->maps.tgids), &k, &one, BPF_ANY);
 	/* the hooks look a thread up only when its bits are set (rtsup.h) */
@@ -349,17 +354,35 @@ static void rematch(struct thread_model *tm)
 	tm->cfg_gen = 0;
 }
 
+/*
+ * process_name - the process's name, read once per sample for all its
+ * threads (a thousand threads of one process read it a thousand times)
+ */
+static void process_name(struct collector *c, const struct thread_model *tm, char *pcomm)
+{
+	struct collector_pname *p = &c->pnames[tm->tgid % COLLECTOR_PNAMES];
+
+	if (p->tgid == tm->tgid && p->seq == c->sample_seq) {
+		memcpy(pcomm, p->comm, RTSUP_COMM_LEN);
+		return;
+	}
+	if (thread_comm(tm->tgid, tm->tgid, pcomm, RTSUP_COMM_LEN))
+		snprintf(pcomm, RTSUP_COMM_LEN, "%s", tm->comm);
+	comm_sanitize(pcomm, RTSUP_COMM_LEN);
+	p->tgid = tm->tgid;
+	p->seq = c->sample_seq;
+	memcpy(p->comm, pcomm, RTSUP_COMM_LEN);
+}
+
 /* refresh_identity - names, cgroup and scheduling attributes of a live thread */
-static void refresh_identity(struct thread_model *tm)
+static void refresh_identity(struct collector *c, struct thread_model *tm)
 {
 	char pcomm[RTSUP_COMM_LEN], cg[sizeof(tm->cgroup)];
 	struct sched_param sp;
 
 	if (!tm->pcomm[0])
 		tm->kthread = thread_is_kernel(tm->tgid, tm->tid);
-	if (thread_comm(tm->tgid, tm->tgid, pcomm, sizeof(pcomm)))
-		snprintf(pcomm, sizeof(pcomm), "%s", tm->comm);
-	comm_sanitize(pcomm, sizeof(pcomm));
+	process_name(c, tm, pcomm);
 	read_cgroup(tm->tgid, tm->tid, cg, sizeof(cg));
 	if (strcmp(pcomm, tm->pcomm) || strcmp(cg, tm->cgroup)) {
 		memcpy(tm->pcomm, pcomm, sizeof(pcomm));
@@ -426,7 +449,7 @@ static int take(struct collector *c, __u32 tid, const struct rtsup_thread *t)
 	tm->alive = !thread_dead(false, true, t->exited) &&
 		    !(idle_in_window(tm) && thread_gone(t->tgid, tid));
 	if (tm->alive)
-		refresh_identity(tm);
+		refresh_identity(c, tm);
 	else
 		tm->policy = -1;
 	return 0;
@@ -554,6 +577,7 @@ int collector_sample(struct collector *c)
 
 	epoch_flip(c);
 	update_clocks(c);
+	c->sample_seq++;	/* process names are read again */
 	collector_poll(c, 0);
 	/* what came in the interval (the poll above was its last), in time order */
 	eventlog_finish(&c->events);
@@ -639,9 +663,12 @@ void collector_reap(struct collector *c)
 
 		for (j = 0; j < tm->nsys; j++)
 			tm->sys[j].prev = tm->sys[j].total;
-		if (tm->alive || tm->reported_exit)
+		if ((tm->alive && !(tm->cur.rt & RTSUP_RT_LEFT)) || tm->reported_exit)
 			continue;
-		/* reported once: the kernel entry is freed, the model keeps the numbers */
+		/*
+		 * reported once: the kernel entry is freed, the model keeps the
+		 * numbers; so is a thread that left RT under --rt (rtfollow.h)
+		 */
 		tm->reported_exit = true;
 		if (!same_thread(c, fd, tm))
 			continue;	/* a new thread has the tid already (add_thread) */

@@ -24,6 +24,9 @@ struct stack_maps;
 /* A poll consumes events for its wait or this long, whichever is longer (poll_over). */
 #define COLLECTOR_POLL_MIN_MS 10
 
+/* process names remembered within one sample: a slot per tgid modulo this */
+#define COLLECTOR_PNAMES 64
+
 struct collector {
 	struct rtsup_bpf *skel;
 	const struct options *o;
@@ -57,6 +60,13 @@ struct collector {
 	void (*on_stack)(void *ctx, const struct rtsup_stack_rec *r,
 			 const struct stack_frame *f, int n, const struct stack_maps *m);
 	void *sink_ctx;
+	/* process names read in this sample, by tgid (refresh_identity) */
+	__u64 sample_seq;
+	struct collector_pname {
+		__u32 tgid;
+		__u64 seq;
+		char comm[RTSUP_COMM_LEN];
+	} pnames[COLLECTOR_PNAMES];
 };
 
 /* lost_records - what the ring buffers dropped so far: rare events and cycle records */

@@ -17,6 +17,7 @@
 #include "collect/loader.h"
 #include "rtsup.h"
 #include "can.h"	/* the skeleton's .bss holds can_if_slot */
+#include "rtfollow.h"
 #include "rtsup.skel.h"
 #include "rtsup_empty.skel.h"
 
@@ -77,11 +78,26 @@ static bool has_tracepoint(const char *name)
 	return ok;
 }
 
+/* has_function - does this kernel's BTF have the function (fexit can attach)? */
+static bool has_function(const char *name)
+{
+	struct btf *btf = btf__load_vmlinux_btf();
+	bool ok;
+
+	if (!btf)
+		return false;
+	ok = btf__find_by_name_kind(btf, name, BTF_KIND_FUNC) > 0;
+	btf__free(btf);
+	return ok;
+}
+
 /*
  * select_programs - keep one of the two program sets; CAN only with --can,
- * the user page fault hook only with --stacks
+ * the user page fault hook only with --stacks, --rt's policy hook (rt_*)
+ * only when rt_hook
  */
-static void select_programs(struct bpf_object *obj, bool btf, bool can, bool faults)
+static void select_programs(struct bpf_object *obj, bool btf, bool can, bool faults,
+			    bool rt_hook)
 {
 	struct bpf_program *p;
 
@@ -91,8 +107,11 @@ static void select_programs(struct bpf_object *obj, bool btf, bool can, bool fau
 		bool is_can = !strncmp(bpf_program__name(p), "can_", 4);
 		bool is_fault = !strncmp(bpf_program__name(p), "page_fault_", 11);
 
-		bpf_program__set_autoload(p, is_btf == btf && (can || !is_can) &&
-					  (faults || !is_fault));
+		if (!strncmp(bpf_program__name(p), "rt_", 3))
+			bpf_program__set_autoload(p, rt_hook);
+		else
+			bpf_program__set_autoload(p, is_btf == btf && (can || !is_can) &&
+						  (faults || !is_fault));
 	}
 }
 
@@ -123,17 +142,30 @@ static int floor_start(struct loader *l, const struct options *o)
 {
 	struct rtsup_empty_bpf *e = rtsup_empty_bpf__open();
 	struct bpf_map *m;
+	int err;
 
 	if (!e)
 		return -errno;
 	l->floor = e;
-	select_programs(e->obj, l->tp_btf, o->can, l->fault_stacks);
+	select_programs(e->obj, l->tp_btf, o->can, l->fault_stacks, l->rt_hook);
+	bpf_program__set_autoattach(e->progs.rt_setsched, false);
 	/* its maps are never used: keep them small */
 	bpf_object__for_each_map(m, e->obj)
 		if (bpf_map__type(m) != BPF_MAP_TYPE_RINGBUF)
 			bpf_map__set_max_entries(m, 1);
-	return rtsup_empty_bpf__load(e) ?: rtsup_empty_bpf__attach(e);
+	err = rtsup_empty_bpf__load(e) ?: rtsup_empty_bpf__attach(e);
+	/* an empty body where fexit attaches, none where it cannot */
+	if (!err && l->rt_hook)
+		e->links.rt_setsched = bpf_program__attach(e->progs.rt_setsched);
+	return err;
 }
+
+/*
+ * The kernel's BTF may have __sched_setscheduler where fexit cannot attach
+ * to it (Debian's arm64 6.1: ENOTSUPP): then everything is loaded again
+ * without the policy hook, which --rt replaces by its per-switch read.
+ */
+static bool rt_hook_failed;
 
 int loader_start(struct loader *l, const struct options *o)
 {
@@ -163,7 +195,12 @@ int loader_start(struct loader *l, const struct options *o)
 	if (o->stack_any && !l->fault_stacks)
 		fprintf(stderr, "rtsup-trace: --stacks: no page_fault_user tracepoint on this "
 				"kernel: page faults are counted without their stacks\n");
-	select_programs(s->obj, l->tp_btf, o->can, l->fault_stacks);
+	/* --rt: policy changes found where they happen, not at every switch */
+	l->rt_hook = o->targets.rt && l->tp_btf && !rt_hook_failed &&
+		     has_function(RTSUP_RT_HOOK_FN);
+	select_programs(s->obj, l->tp_btf, o->can, l->fault_stacks, l->rt_hook);
+	/* attached on its own below, to know that it failed */
+	bpf_program__set_autoattach(s->progs.rt_setsched, false);
 	if (o->floor)	/* none of ours: floor_start attaches the empty ones */
 		bpf_object__for_each_program(p, s->obj)
 			bpf_program__set_autoload(p, false);
@@ -171,6 +208,7 @@ int loader_start(struct loader *l, const struct options *o)
 	s->rodata->cfg_period = o->period_ns;
 	s->rodata->cfg_warmup = o->warmup_ns;
 	s->rodata->cfg_rt = o->targets.rt;
+	s->rodata->cfg_rt_at_switch = o->targets.rt && !l->rt_hook;
 	s->rodata->cfg_cgroup = o->targets.cgroup != NULL || o->unit;
 	s->rodata->cfg_ncomm = o->targets.ncomms;
 	s->rodata->cfg_record = o->record_path || o->perfetto_path;
@@ -233,6 +271,14 @@ int loader_start(struct loader *l, const struct options *o)
 		}
 	}
 	err = rtsup_bpf__attach(s);
+	if (!err && l->rt_hook && !o->floor) {
+		s->links.rt_setsched = bpf_program__attach(s->progs.rt_setsched);
+		if (!s->links.rt_setsched) {
+			loader_stop(l);
+			rt_hook_failed = true;
+			return loader_start(l, o);
+		}
+	}
 	if (!err && o->floor)
 		err = floor_start(l, o);
 	if (err) {

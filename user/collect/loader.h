@@ -14,6 +14,7 @@ struct loader {
 	struct rtsup_empty_bpf *floor;	/* --floor: the empty programs attached instead */
 	bool tp_btf;		/* which program set is attached */
 	bool fault_stacks;	/* --stacks: the user page fault hook is attached */
+	bool rt_hook;		/* --rt: the policy hook is attached (rtfollow.h) */
 	int cgroup_fd;
 	int stats_fd;		/* holds BPF run-time statistics on, -1 = off */
 };

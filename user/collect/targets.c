@@ -191,7 +191,7 @@ static int scan_thread(void *arg, pid_t tgid, pid_t tid)
 		return 0;
 	for (i = 0; i < s->t->npids; i++)
 		if (s->t->pids[i] == tgid)
-			return s->cb(s->ctx, tgid, tid, comm, true);
+			return s->cb(s->ctx, tgid, tid, comm, TARGET_PROCESS);
 	for (i = 0; i < s->t->ntids; i++)
 		if (s->t->tids[i] == tid)
 			return s->cb(s->ctx, tgid, tid, comm, false);
@@ -199,12 +199,12 @@ static int scan_thread(void *arg, pid_t tgid, pid_t tid)
 		/* a process by its name (all its threads), or a thread by its own */
 		if (!thread_comm(tgid, tgid, pcomm, sizeof(pcomm)) &&
 		    comm_matches(s->t, pcomm))
-			return s->cb(s->ctx, tgid, tid, comm, true);
+			return s->cb(s->ctx, tgid, tid, comm, TARGET_PROCESS);
 		if (comm_matches(s->t, comm))
 			return s->cb(s->ctx, tgid, tid, comm, false);
 	}
 	if (s->t->rt && is_rt(tid))
-		return s->cb(s->ctx, tgid, tid, comm, false);
+		return s->cb(s->ctx, tgid, tid, comm, TARGET_RT);
 	return 0;
 }
 

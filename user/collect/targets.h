@@ -21,9 +21,13 @@ struct targets {
 	const char *cgroup;		/* --cgroup, a cgroup v2 directory */
 };
 
-/* Called for every thread found that matches; tgid-wide when 'process'. */
+/* how a thread matched: its whole process, or only as an RT thread (--rt) */
+#define TARGET_PROCESS	1
+#define TARGET_RT	2
+
+/* Called for every thread found that matches; how: TARGET_* or 0. */
 typedef int (*target_cb)(void *ctx, pid_t tgid, pid_t tid, const char *comm,
-			 bool process);
+			 unsigned int how);
 
 /* targets_any - did the user name any target? */
 bool targets_any(const struct targets *t);

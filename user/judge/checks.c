@@ -185,6 +185,10 @@ static void check_exceptions(const struct check_in *in, struct status *s)
 	if (in->restarted_from)
 		status_add(s, LEVEL_OK, "restarted: replaces tid %u, which died",
 			   in->restarted_from);
+	/* alive, but not followed any more: reported once, like an exit */
+	if (in->left_rt && in->alive)
+		status_add(s, LEVEL_STALE, "left RT (policy %s): no longer a --rt target",
+			   policy_name(in->policy));
 	if (in->alive)
 		return;
 	if (sig)
@@ -272,7 +276,7 @@ void check_thread(const struct check_in *in, struct status *out)
 		check_jitter(in, in->life, period, out);
 	}
 	/* a dead thread has no data any more: STALE unless it is worse */
-	if (!in->alive && out->level == LEVEL_OK)
+	if ((!in->alive || in->left_rt) && out->level == LEVEL_OK)
 		out->level = LEVEL_STALE;
 }
 

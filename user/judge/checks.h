@@ -37,6 +37,7 @@ struct check_in {
 	bool expect_run;		/* a rule names it: no cycle at all is a fault */
 	bool kthread;			/* a kernel thread: judged only when a rule names it */
 	bool alive;
+	bool left_rt;			/* --rt let it go: it left RT (rtfollow.h) */
 	int policy;
 	int prio;
 	__u64 now_ns;			/* CLOCK_MONOTONIC */

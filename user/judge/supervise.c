@@ -6,6 +6,7 @@
 #include <time.h>
 #include "judge/supervise.h"
 #include "model/syscalls.h"
+#include "rtfollow.h"
 
 void supervise_init(struct supervisor *s, struct config *cfg)
 {
@@ -201,6 +202,7 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 		in.expect_run = tm->rule >= 0;
 		in.kthread = tm->kthread;
 		in.alive = tm->alive;
+		in.left_rt = tm->cur.rt & RTSUP_RT_LEFT;
 		in.policy = tm->policy;
 		in.prio = tm->prio;
 		in.now_ns = now;
@@ -218,6 +220,7 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 		check_thread(&in, &st);
 		old = tm->st;
 		tm->st = st;
+		tm->level_changed = st.level != old.level;
 		component_name(tm, comp, sizeof(comp));
 		judge(s, comp, &old, &st, &tm->worst, now, tm);
 	}

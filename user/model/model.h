@@ -97,6 +97,7 @@ struct thread_model {
 	bool was_rt;			/* it ran with an RT policy at some point */
 	bool kthread;			/* a kernel thread (PF_KTHREAD) */
 	struct status st;		/* verdict of the last interval */
+	bool level_changed;		/* st's level is not the interval before's */
 	enum level worst;		/* worst level ever reached */
 	__u64 dead_seq;			/* order of death, set by model_prune_dead */
 };

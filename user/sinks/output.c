@@ -12,6 +12,8 @@
 #include "model/syscalls.h"
 #include "sinks/output_can.h"
 #include "sinks/output_stacks.h"
+#include "rtfollow.h"
+#include "sinks/rowcut.h"
 
 #define MAX_EVENT_LINES 10
 
@@ -256,6 +258,9 @@ static json_t *json_thread(const struct collector *c, const struct supervisor *s
 			json_object_set_new(o, "exit_cycle_unsafe",
 					    json_unsafe(tm->cur.exit_unsafe));
 	}
+	/* --rt let it go: it left RT (rtfollow.h) */
+	if (tm->cur.rt & RTSUP_RT_LEFT)
+		json_object_set_new(o, "left_rt", json_true());
 	json_object_set_new(o, "process", json_string(tm->pcomm));
 	json_object_set_new(o, "kernel_thread", json_boolean(tm->kthread));
 	json_object_set_new(o, "status", json_status(&tm->st));
@@ -502,18 +507,32 @@ static void json_list_end(void)
 	putchar(']');
 }
 
-/* json_threads - the threads array, one thread object at a time */
+/*
+ * json_threads - the threads array, one thread object at a time; an
+ * interval with --json-threads active lists the active ones and counts
+ * the others (rowcut.h)
+ */
 static void json_threads(const struct collector *c, const struct supervisor *sv, bool window)
 {
-	int i, n;
+	bool active = window && c->o->json_active;
+	int i, n, quiet = 0;
 
 	json_list_begin("threads", &n);
 	for (i = 0; i < c->model.n; i++) {
-		if (window && c->model.t[i].reported_exit)
+		const struct thread_model *tm = &c->model.t[i];
+
+		if (window && tm->reported_exit)
 			continue;
-		json_item(&n, json_thread(c, sv, &c->model.t[i], window));
+		if (active && !rowcut_active(tm->win.cycles, tm->win.vol_cs + tm->win.invol_cs,
+					     tm->level_changed)) {
+			quiet++;
+			continue;
+		}
+		json_item(&n, json_thread(c, sv, tm, window));
 	}
 	json_list_end();
+	if (active)
+		json_field("threads_not_listed", json_integer(quiet));
 }
 
 static void json_interval(const struct collector *c, const struct supervisor *sv,
@@ -633,6 +652,49 @@ static void table_row(const struct thread_model *tm, const struct span_view *s,
 	       (unsigned long long)s->unsafe_total, csw, level_name(level), off);
 }
 
+/*
+ * table_pick - the rows of a table (rowcut.h): the interval's by its
+ * verdict and window, the summary's by the worst level and the lifetime.
+ * Returns their model indices (kept until the next call), *n and *cut.
+ */
+static const int *table_pick(const struct collector *c, bool window, int *n, int *cut)
+{
+	static struct rowcut_row *rows;
+	static int *idx, cap;
+	int i, m = c->model.n;
+
+	if (m > cap) {
+		struct rowcut_row *r = realloc(rows, m * sizeof(*r));
+		int *x = r ? realloc(idx, 2 * m * sizeof(*x)) : NULL;
+
+		if (r)
+			rows = r;
+		if (!x) {	/* no memory for the cut: none */
+			*n = *cut = 0;
+			return NULL;
+		}
+		idx = x;
+		cap = m;
+	}
+	for (i = 0; i < m; i++) {
+		const struct thread_model *tm = &c->model.t[i];
+		const struct span_view *s = window ? &tm->win : &tm->life;
+
+		rows[i] = (struct rowcut_row){ .level = window ? tm->st.level : tm->worst,
+			.skip = window && tm->reported_exit, .misses = s->misses,
+			.unsafe = s->unsafe_total, .lat_max_ns = s->m[RTSUP_M_LATENCY].max };
+	}
+	*n = rowcut_pick(rows, m, c->o->top, c->o->all, idx, idx + m, cut);
+	return idx;
+}
+
+/* table_cut_line - what the table left out, if anything */
+static void table_cut_line(int cut)
+{
+	if (cut)
+		printf("%7s ... %d more threads, all OK (--all shows every thread)\n", "", cut);
+}
+
 /* table_event - one line per rare event */
 static void table_event(const struct collector *c, const struct rtsup_event *e)
 {
@@ -694,7 +756,8 @@ static void table_interval(const struct collector *c, const struct supervisor *s
 {
 	bool color = use_color(c->o);
 	char title[160];
-	int i, shown = 0, live = 0;
+	int i, shown = 0, live = 0, nrows, cut;
+	const int *rows;
 	__u64 hidden = 0;
 
 	for (i = 0; i < c->model.n; i++)
@@ -708,13 +771,18 @@ static void table_interval(const struct collector *c, const struct supervisor *s
 		table_header(title);
 	else
 		printf("%s\n", title);
-	for (i = 0; i < c->model.n; i++) {
-		const struct thread_model *tm = &c->model.t[i];
+	rows = table_pick(c, true, &nrows, &cut);
+	for (i = 0; rows && i < nrows; i++) {
+		const struct thread_model *tm = &c->model.t[rows[i]];
 
-		if (tm->reported_exit)
-			continue;
 		table_row(tm, &tm->win, tm->st.level, color);
 	}
+	/* no memory for the cut: every row, as --all */
+	for (i = 0; !rows && i < c->model.n; i++)
+		if (!c->model.t[i].reported_exit)
+			table_row(&c->model.t[i], &c->model.t[i].win, c->model.t[i].st.level,
+				  color);
+	table_cut_line(cut);
 	table_messages(c, sv);
 	if (sv->can)
 		can_table(sv->can, &sv->cfg, sv->now, interval, false);
@@ -794,7 +862,8 @@ static void table_summary(const struct collector *c, const struct supervisor *sv
 	char when[40];
 	struct span_view s;
 	char title[200];
-	int i, j;
+	int i, j, nrows, cut;
+	const int *rows;
 
 	snprintf(title, sizeof(title),
 		 "rtsup-trace summary over %.1f s: %d threads, %llu rare events, %llu lost, "
@@ -806,9 +875,13 @@ static void table_summary(const struct collector *c, const struct supervisor *sv
 		table_header(title);
 	else
 		printf("%s\n", title);
-	for (i = 0; i < c->model.n; i++)
-		table_row(&c->model.t[i], &c->model.t[i].life, c->model.t[i].worst,
-			  use_color(c->o));
+	rows = table_pick(c, false, &nrows, &cut);
+	for (i = 0; i < (rows ? nrows : c->model.n); i++) {
+		const struct thread_model *tm = &c->model.t[rows ? rows[i] : i];
+
+		table_row(tm, &tm->life, tm->worst, use_color(c->o));
+	}
+	table_cut_line(cut);
 	/* why each thread lost RT safety, by reason and by syscall */
 	for (i = 0; i < c->model.n; i++) {
 		const struct thread_model *tm = &c->model.t[i];

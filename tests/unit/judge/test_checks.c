@@ -226,6 +226,15 @@ static void test_checks_init_dead(void **state)
 	expect_one(LEVEL_STALE, "exited");
 }
 
+/* --rt let go of a thread that left RT: said once, STALE, not judged as an exit */
+static void test_checks_left_rt(void **state)
+{
+	IN.left_rt = true;
+	IN.policy = 0;
+	run();
+	expect_one(LEVEL_STALE, "left RT (policy SCHED_OTHER): no longer a --rt target");
+}
+
 static void test_checks_init_timeout_off(void **state)
 {
 	no_cycles_yet();
@@ -1192,6 +1201,7 @@ int main(void)
 		C(test_checks_init_before_timeout),
 		C(test_checks_init_with_cycles),
 		C(test_checks_init_dead),
+		C(test_checks_left_rt),
 		C(test_checks_init_timeout_off),
 		C(test_checks_init_unnamed_is_idle),
 		C(test_checks_init_unnamed_before_timeout),
