@@ -1053,14 +1053,28 @@ static __always_inline struct rtsup_thread *rt_add(struct task_struct *task)
 }
 
 /*
- * rt_adopt - --rt without the policy hooks (cfg_rt_at_switch): a SCHED_FIFO,
- * RR or DEADLINE thread is added at its switch-in
+ * rt_at_switch - --rt without the policy hook (cfg_rt_at_switch): the
+ * policy read at a switch-in stands in for it (rtfollow.h). A SCHED_FIFO,
+ * RR or DEADLINE thread is added; a target that --rt alone followed and
+ * that left RT is let go, as on_setsched does, at its next switch-in.
+ * nt: next's entry or NULL; returns the entry to go on with.
  */
-static __always_inline struct rtsup_thread *rt_adopt(struct task_struct *next, const int btf)
+static __always_inline struct rtsup_thread *rt_at_switch(struct task_struct *next,
+							 struct rtsup_thread *nt, const int btf)
 {
-	if (rt_policy(TREAD(btf, next, policy)))
-		return rt_add(next);
-	return NULL;
+	__u32 tgid;
+
+	switch (rt_on_policy(TREAD(btf, next, policy), nt)) {
+	case RT_ADOPT:
+		return nt ? nt : rt_add(next);
+	case RT_LET_GO:
+		tgid = TREAD(btf, next, tgid);
+		if (nt && !bpf_map_lookup_elem(&tgids, &tgid))
+			nt->rt |= RTSUP_RT_LEFT;
+		return nt;
+	default:
+		return nt;
+	}
 }
 
 /*
@@ -1113,8 +1127,8 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 	if (pt)
 		why_settle(pt);
 	nt = lookup_or_hold(next_tid, &hold);
-	if (!nt && !hold && cfg_rt_at_switch && next_tid)
-		nt = rt_adopt(next, btf);
+	if (!hold && cfg_rt_at_switch && next_tid)
+		nt = rt_at_switch(next, nt, btf);
 	/* keeps clang from OR-ing the two pointers, which the verifier refuses */
 	barrier_var(nt);
 	if (!switch_has_work(pt, nt, hold))

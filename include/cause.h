@@ -314,9 +314,11 @@ RTSUP_SUBPROG void why_take(struct rtsup_why *w, const struct rtsup_cycle_state 
 
 /*
  * why_migrate - sched_migrate_task of a target, from CPU 'from' to 'to':
- * why, as far as the kernel tells. A task being woken (TASK_WAKING) is
- * placed by its wakeup; one whose CPU left its affinity mask is moved by
- * that change (sched_setaffinity, cpuset); else the scheduler moved it
+ * why, as far as the kernel tells. A task whose CPU left its affinity mask
+ * is moved by that change (sched_setaffinity, cpuset), also when the move
+ * waits for its wakeup (a task that slept in the change, e.g. waiting for
+ * the stopper that moves it, is placed at its wakeup); else a task being
+ * woken (TASK_WAKING) is placed by its wakeup; else the scheduler moved it
  * where it was allowed to stay: load balance, RT push/pull.
  */
 RTSUP_INLINE void why_migrate(struct rtsup_why *w, __u32 from, __u32 to, int waking,
@@ -324,7 +326,7 @@ RTSUP_INLINE void why_migrate(struct rtsup_why *w, __u32 from, __u32 to, int wak
 {
 	w->mig_from = from;
 	w->mig_to = to;
-	w->mig_why = waking ? RTSUP_MIG_WAKEUP : !allowed ? RTSUP_MIG_AFFINITY :
+	w->mig_why = !allowed ? RTSUP_MIG_AFFINITY : waking ? RTSUP_MIG_WAKEUP :
 		     RTSUP_MIG_BALANCE;
 }
 

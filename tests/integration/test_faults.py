@@ -354,8 +354,11 @@ def test_record_disk_full(tmp_path, small_fs):
     rec = small_fs("size=256k") / "run.rtsup"
     lg_out = tmp_path / "lg.json"
     # --hold: the generator parks its thread after its last cycle, so every
-    # cycle is whole when -d ends the run (and the generator)
-    r = run_cli([str(TRACE), "-j", "-i", "500ms", "--no-overhead", "--record", str(rec),
+    # cycle is whole when -d ends the run (and the generator). The file
+    # fills at about 0.5 MB/s (an event of ~420 bytes per mmap and munmap,
+    # a cycle record per cycle): intervals of 100 ms put several interval
+    # marks in 256 KiB, where 500 ms had put the first one near the end
+    r = run_cli([str(TRACE), "-j", "-i", "100ms", "--no-overhead", "--record", str(rec),
                  "-d", "%ds" % (3 * PERIOD_US // 1000 + 2), "--", str(LOADGEN), "-s",
                  str(lg_out), "-n", "1", "-c", "3000", "-P", str(PERIOD_US), "-f", "mmap/2",
                  "--hold"], timeout=120)

@@ -419,6 +419,24 @@ static bool thread_gone(__u32 tgid, __u32 tid)
 	return syscall(SYS_tgkill, tgid, tid, 0) < 0 && errno == ESRCH;
 }
 
+/*
+ * rt_left_by_read - --rt without the policy hook (the loader fell back to
+ * the per-switch read: cfg_rt_at_switch): the interval's policy read stands
+ * in for the hook's let-go (rtfollow.h). A thread --rt alone follows whose
+ * policy is no longer RT is marked as on_setsched marks it; a thread whose
+ * process is a target is kept. collector_reap lets it go.
+ */
+static void rt_left_by_read(struct collector *c, struct thread_model *tm)
+{
+	__u32 tgid = tm->tgid, one;
+
+	if (!c->skel->rodata->cfg_rt_at_switch || !tm->alive || tm->policy < 0 ||
+	    rt_on_policy(tm->policy, &tm->cur) != RT_LET_GO ||
+	    !bpf_map_lookup_elem(bpf_map__fd(c->skel->maps.tgids), &tgid, &one))
+		return;
+	tm->cur.rt |= RTSUP_RT_LEFT;
+}
+
 /* take - one thread's new kernel snapshot into the model */
 static int take(struct collector *c, __u32 tid, const struct rtsup_thread *t)
 {
@@ -452,6 +470,7 @@ static int take(struct collector *c, __u32 tid, const struct rtsup_thread *t)
 		refresh_identity(c, tm);
 	else
 		tm->policy = -1;
+	rt_left_by_read(c, tm);
 	return 0;
 }
 

@@ -162,7 +162,9 @@ static int floor_start(struct loader *l, const struct options *o)
 
 /*
  * The kernel's BTF may have __sched_setscheduler where fexit cannot attach
- * to it (Debian's arm64 6.1: ENOTSUPP): then everything is loaded again
+ * to it (Debian's arm64 6.1: ENOTSUPP at attach), or the kernel may refuse
+ * to load an fexit program at all (a security module that forbids kernel
+ * function tracing: EPERM at load): then everything is loaded again
  * without the policy hook, which --rt replaces by its per-switch read.
  */
 static bool rt_hook_failed;
@@ -244,6 +246,12 @@ int loader_start(struct loader *l, const struct options *o)
 		bpf_map__set_max_entries(s->maps.cycles, 4 << 20);
 
 	err = rtsup_bpf__load(s);
+	if (err && l->rt_hook) {
+		/* the hook's fault or not: the second try without it says which */
+		loader_stop(l);
+		rt_hook_failed = true;
+		return loader_start(l, o);
+	}
 	if (err == -EPERM) {
 		/* we hold the capabilities (checked above), yet the kernel says no:
 		 * the verifier's log would not help */

@@ -270,6 +270,9 @@ static void test_cause_migration_why(void **state)
 	assert_int_equal(f.w.mig_why, RTSUP_MIG_AFFINITY);
 	why_migrate(&f.w, 0, 1, 1, 1);
 	assert_int_equal(f.w.mig_why, RTSUP_MIG_WAKEUP);
+	/* placed at its wakeup because its CPU left its mask while it slept */
+	why_migrate(&f.w, 0, 1, 1, 0);
+	assert_int_equal(f.w.mig_why, RTSUP_MIG_AFFINITY);
 	why_migrate(&f.w, 2, 3, 0, 1);
 	assert_int_equal(f.w.mig_why, RTSUP_MIG_BALANCE);
 	arg = why_migrated(&f.w, 3);
