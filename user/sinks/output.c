@@ -663,6 +663,9 @@ static const int *table_pick(const struct collector *c, bool window, int *n, int
 	static int *idx, cap;
 	int i, m = c->model.n;
 
+	*n = *cut = 0;
+	if (!m)		/* no thread (yet): no rows, and no buffer to index */
+		return idx;
 	if (m > cap) {
 		struct rowcut_row *r = realloc(rows, m * sizeof(*r));
 		int *x = r ? realloc(idx, 2 * m * sizeof(*x)) : NULL;
