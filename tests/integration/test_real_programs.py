@@ -179,6 +179,9 @@ def test_stopped_and_continued_loop(bpf, tmp_path):
     assert tot["signals"] >= stops
     # one cycle per timerfd read, whatever the stops did (was one more per stop)
     assert tot["cycles"] == pytest.approx(truth["cycles"], abs=1)
-    # a stop that lands in the ~5 us of work of a 1 ms cycle is a real block
-    # inside it: a chance of 1/200 per stop, so at most one of the five
-    assert tot["unsafe"]["block"] <= 1
+    # a stop inside a cycle is a real block there: one in its ~5 us of work,
+    # or one after its timerfd read was woken (within the wakeup's latency,
+    # the stop comes on the way back to user space). A CI run saw two of
+    # five, where "1/200 per stop" had allowed one. The program counts both
+    # kinds itself (the read's expirations say which; timerfd_loop.c)
+    assert tot["unsafe"]["block"] == truth["stopped_in_cycle"], (tot["unsafe"], truth)

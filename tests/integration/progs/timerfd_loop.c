@@ -4,7 +4,12 @@
  * for its 1 ms release by reading a timerfd, and inside every cycle reads
  * a pipe it has just written to (a read that does not wait). Traced with
  * --cycle-syscall naming read, only the timerfd read may end a cycle. It
- * writes the cycles it ran (and the expirations it missed) as JSON.
+ * writes the cycles it ran (and the expirations it missed) as JSON, and
+ * how often it was stopped (SIGSTOP, 20 ms or more) inside a cycle: in its
+ * work, or after its timerfd read had taken its one expiration (the stop
+ * then comes on the way back to user space, after the read returned, so
+ * inside the cycle the read began). A stop while the read waits restarts
+ * the read, which then returns the expirations the stop let pass.
  *
  * usage: timerfd_loop NAME PERIOD_US CYCLES OUT.json
  */
@@ -18,13 +23,24 @@
 #include <sys/prctl.h>
 #include <sys/timerfd.h>
 
+/* far longer than a cycle's work or a wakeup's latency, far shorter than the test's stops */
+#define STOPPED_NS	10000000L
+
+static long now_ns(void)
+{
+	struct timespec ts;
+
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return ts.tv_sec * 1000000000L + ts.tv_nsec;
+}
+
 int main(int argc, char **argv)
 {
 	struct sched_param sp = { .sched_priority = 10 };
 	struct itimerspec its = { 0 };
 	uint64_t exp, missed = 0;
-	int tfd, p[2], cycles, i;
-	long period_ns;
+	int tfd, p[2], cycles, i, stopped_in_cycle = 0;
+	long period_ns, t0, t1, t2;
 	char c = 'x';
 	FILE *f;
 
@@ -46,19 +62,27 @@ int main(int argc, char **argv)
 		return 1;
 	if (read(tfd, &exp, sizeof(exp)) != sizeof(exp))	/* release of cycle 1 */
 		return 1;
+	t0 = now_ns();
 	for (i = 1; i <= cycles; i++) {
 		/* the cycle's work: a message through a pipe, read at once */
 		if (write(p[1], &c, 1) != 1 || read(p[0], &c, 1) != 1)
 			return 1;
+		t1 = now_ns();
 		if (read(tfd, &exp, sizeof(exp)) != sizeof(exp))
 			return 1;
+		t2 = now_ns();
 		missed += exp - 1;
+		/* stopped in the work, or after the read took its one expiration */
+		stopped_in_cycle += t1 - t0 > STOPPED_NS;
+		stopped_in_cycle += exp == 1 && t2 - t1 > STOPPED_NS;
+		t0 = t2;
 	}
 	f = fopen(argv[4], "w");
 	if (!f)
 		return 1;
-	fprintf(f, "{\"cycles\": %d, \"tid\": %d, \"missed_expirations\": %llu}\n", cycles,
-		gettid(), (unsigned long long)missed);
+	fprintf(f, "{\"cycles\": %d, \"tid\": %d, \"missed_expirations\": %llu, "
+		"\"stopped_in_cycle\": %d}\n", cycles, gettid(), (unsigned long long)missed,
+		stopped_in_cycle);
 	fclose(f);
 	return 0;
 }
