@@ -235,6 +235,7 @@ def test_replay_gives_the_same_causes(bpf, tmp_path):
 
 # the holds the guest asks its host for: 8 of 100 ms, one every 500 ms
 HOLDS, HOLD_MS, EVERY_MS = 8, 100, 400
+MACHINE_PERIOD_MS = 20  # why_late machine's period (why_late.c)
 
 
 def ask_holds():
@@ -301,21 +302,28 @@ def test_machine_latency_is_named(bpf):
     assert max(g["max_ns"] for g in timer) <= max(late), (truth, timer)
     assert max(g["max_ns"] for g in timer) >= (HOLD_MS - 20) * MS, timer
     # the releases a hold swallowed: backlogs behind no task (they inherit
-    # the late cycle's culprit: none). A hold wakes why-rt 80 ms late or
-    # more, so the 4 releases after the late one are past when it goes to
-    # sleep again. Backlogs behind a task follow the guest's own noise
-    # (a task that held why-rt's CPU): not the holds' business
+    # the late cycle's culprit: none). A hold of d ns holds floor(d / 20 ms)
+    # releases or one more, by its phase against the period: the first is
+    # the late wakeup's, the last may be caught up before it is past (a
+    # 100 ms hold: 3 backlog misses or 4; a CI run saw 27 for 8 holds where
+    # "4 per hold" wanted 28). One hold may begin while why-rt runs its
+    # 100 us (a backlog, no late wakeup): it is left out. Backlogs behind a
+    # task follow the guest's own noise (a task that held why-rt's CPU):
+    # not the holds' business
     machine_backlogs = [g for g in gs if g["kind"] == "backlog" and g["who"] is None
                         and g["after"] == "timer"]
-    assert count(machine_backlogs) >= 4 * (len(held) - 1), (truth, gs)
+    per_hold = [d // (MACHINE_PERIOD_MS * MS) - 2 for d in held]
+    assert count(machine_backlogs) >= sum(per_hold) - max(per_hold), (truth, gs, held)
     assert all("(machine / timer latency)" in g["text"] for g in machine_backlogs), gs
     # the verdicts name the machine, the backlogs counted with the late
-    # wakeups they follow (a hold's interval: 1 + 4 misses at least)
+    # wakeups they follow (a hold's interval: the late wakeup and its
+    # backlogs, 1 + 3 misses at least for a 100 ms hold)
     msgs = [m for i in intervals for t in i["threads"] if t["tid"] == truth["rt_tid"]
             for m in t["status"]["messages"] if "caused by machine / timer latency" in m]
     assert msgs, [t["status"] for i in intervals for t in i["threads"]
                   if t["tid"] == truth["rt_tid"]]
-    assert max(int(m.split(" caused by machine")[0].split()[-1]) for m in msgs) >= 5, msgs
+    assert max(int(m.split(" caused by machine")[0].split()[-1]) for m in msgs) >= 1 + min(
+        per_hold), msgs
     # each miss event says it too: the parts, no culprit; and a hold's,
     # mostly the idle CPU (the task current at the wakeup: the idle task).
     # Not always: the resumed guest has the work the hold delayed to catch
