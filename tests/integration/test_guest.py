@@ -15,14 +15,20 @@ from conftest import IN_CI, ROOT
 VM = ROOT / "scripts" / "vm-test"
 
 
-@pytest.mark.parametrize("kernel", ["rt-6.1", "rt-6.12"])
-def test_thread_tests_pass_in_guest(kernel):
+def need_vm(kernel):
+    """The guest of that kernel is set up (scripts/vm-test setup): with CI=true
+    a missing one fails, never skips."""
     r = subprocess.run([str(VM), "kernels"], capture_output=True, text=True)
     if not any(line.split()[:1] == [kernel] and " boot " in line
                for line in r.stdout.splitlines()):
         if IN_CI:
             pytest.fail("CI=true and the %s VM is not set up" % kernel)
         pytest.skip("%s VM not set up: scripts/vm-test setup" % kernel)
+
+
+@pytest.mark.parametrize("kernel", ["rt-6.1", "rt-6.12"])
+def test_thread_tests_pass_in_guest(kernel):
+    need_vm(kernel)
     r = subprocess.run([str(VM), "run", "--kernel", kernel, "--timeout", "900", "--",
                         "env", "CI=true", "RTSUP_TEST_EMULATED=1", "/usr/bin/python3", "-m", "pytest",
                         "-q", "-p", "no:cacheprovider", "tests/integration/test_trace.py"],
@@ -41,12 +47,7 @@ def test_fault_rows_in_guest():
     clock step, a CPU offline): inside the rt-6.1 guest only, which the
     kernel command line marks (test_faults.py, in_guest)."""
     kernel = "rt-6.1"
-    r = subprocess.run([str(VM), "kernels"], capture_output=True, text=True)
-    if not any(line.split()[:1] == [kernel] and " boot " in line
-               for line in r.stdout.splitlines()):
-        if IN_CI:
-            pytest.fail("CI=true and the %s VM is not set up" % kernel)
-        pytest.skip("%s VM not set up: scripts/vm-test setup" % kernel)
+    need_vm(kernel)
     env = dict(os.environ, VM_TEST_APPEND="rtsup_faults_guest")
     r = subprocess.run([str(VM), "run", "--kernel", kernel, "--timeout", "600", "--",
                         "env", "CI=true", "RTSUP_TEST_EMULATED=1", "/usr/bin/python3", "-m",
@@ -64,12 +65,7 @@ def test_machine_latency_in_guest():
     its periodic thread sleeps on an idle CPU; the misses are the
     machine's (test_why.py, test_machine_latency_is_named)."""
     kernel = "rt-6.1"
-    r = subprocess.run([str(VM), "kernels"], capture_output=True, text=True)
-    if not any(line.split()[:1] == [kernel] and " boot " in line
-               for line in r.stdout.splitlines()):
-        if IN_CI:
-            pytest.fail("CI=true and the %s VM is not set up" % kernel)
-        pytest.skip("%s VM not set up: scripts/vm-test setup" % kernel)
+    need_vm(kernel)
     r = subprocess.run([str(VM), "run", "--kernel", kernel, "--timeout", "300", "--",
                         "env", "CI=true", "RTSUP_TEST_EMULATED=1", "/usr/bin/python3", "-m",
                         "pytest", "-q", "-p", "no:cacheprovider",
