@@ -575,8 +575,8 @@ static void mark_unseen(struct model *m)
 	int i;
 
 	for (i = 0; i < m->n; i++) {
-		m->t[i].seen = false;
-		model_idle(&m->t[i]);
+		m->t[i]->seen = false;
+		model_idle(m->t[i]);
 	}
 }
 
@@ -586,8 +586,8 @@ static void mark_absent(struct model *m, bool read_complete)
 	int i;
 
 	for (i = 0; i < m->n; i++)
-		if (!m->t[i].seen && thread_dead(read_complete, false, false))
-			m->t[i].alive = false;
+		if (!m->t[i]->seen && thread_dead(read_complete, false, false))
+			m->t[i]->alive = false;
 }
 
 int collector_sample(struct collector *c)
@@ -678,7 +678,7 @@ void collector_reap(struct collector *c)
 	int i, j, ndead = 0;
 
 	for (i = 0; i < c->model.n; i++) {
-		struct thread_model *tm = &c->model.t[i];
+		struct thread_model *tm = c->model.t[i];
 
 		for (j = 0; j < tm->nsys; j++)
 			tm->sys[j].prev = tm->sys[j].total;
@@ -763,7 +763,7 @@ void collector_apply_rules(struct collector *c, const struct supervisor *s)
 	int fd = bpf_map__fd(c->skel->maps.thread_cfg), i;
 
 	for (i = 0; i < c->model.n; i++) {
-		struct thread_model *tm = &c->model.t[i];
+		struct thread_model *tm = c->model.t[i];
 		const struct rule *r;
 		struct rtsup_thread_cfg tc = {};
 

@@ -139,7 +139,7 @@ static void find_restart(struct model *m, struct thread_model *tm)
 	if (tm->restarted_from || tm->judged)
 		return;
 	for (i = 0; i < m->n; i++) {
-		struct thread_model *d = &m->t[i];
+		struct thread_model *d = m->t[i];
 
 		if (d != tm && !d->alive && !d->replaced && d->tid != tm->tid &&
 		    !strcmp(d->comm, tm->comm) && !strcmp(d->pcomm, tm->pcomm)) {
@@ -175,7 +175,7 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 	int i;
 
 	for (i = 0; i < m->n; i++) {
-		struct thread_model *tm = &m->t[i];
+		struct thread_model *tm = m->t[i];
 		const struct rule *r;
 		struct check_in in;
 
@@ -258,8 +258,8 @@ enum level supervise_worst(const struct supervisor *s, const struct model *m)
 		w = can_worst(s->can);
 
 	for (i = 0; i < m->n; i++)
-		if (m->t[i].worst > w)
-			w = m->t[i].worst;
+		if (m->t[i]->worst > w)
+			w = m->t[i]->worst;
 	return w;
 }
 

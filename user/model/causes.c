@@ -327,7 +327,7 @@ void causes_to_model(const struct causes *win, const struct causes *life, struct
 	int i;
 
 	for (i = 0; i < m->n; i++) {
-		struct thread_model *tm = &m->t[i];
+		struct thread_model *tm = m->t[i];
 
 		tm->why_win[0] = tm->why_life[0] = '\0';
 		if ((g = causes_of(win, tm->tid, &n)))

@@ -335,18 +335,18 @@ static int find(const struct model *m, __u32 tid, int *pos)
 	while (lo < hi) {
 		int mid = (lo + hi) / 2;
 
-		if (m->t[mid].tid == tid) {
+		if (m->t[mid]->tid == tid) {
 			*pos = mid;
 			return 1;
 		}
-		if (m->t[mid].tid < tid)
+		if (m->t[mid]->tid < tid)
 			lo = mid + 1;
 		else
 			hi = mid;
 	}
 	/* the arrivals since the last sort: at most MODEL_TAIL_MAX */
 	for (i = m->nsorted; i < m->n; i++) {
-		if (m->t[i].tid == tid) {
+		if (m->t[i]->tid == tid) {
 			*pos = i;
 			return 1;
 		}
@@ -357,14 +357,14 @@ static int find(const struct model *m, __u32 tid, int *pos)
 
 static int by_tid(const void *a, const void *b)
 {
-	__u32 x = ((const struct thread_model *)a)->tid, y = ((const struct thread_model *)b)->tid;
+	__u32 x = (*(struct thread_model *const *)a)->tid;
+	__u32 y = (*(struct thread_model *const *)b)->tid;
 
 	return x < y ? -1 : x > y;
 }
 
 void model_sort(struct model *m)
 {
-	/* glibc sorts elements this big through pointers: each moves once */
 	if (m->nsorted < m->n)
 		qsort(m->t, m->n, sizeof(*m->t), by_tid);
 	m->nsorted = m->n;
@@ -377,44 +377,49 @@ bool model_sorted(const struct model *m)
 	if (m->nsorted < 0 || m->nsorted > m->n)
 		return false;
 	for (i = 1; i < m->nsorted; i++)
-		if (m->t[i - 1].tid >= m->t[i].tid)
+		if (m->t[i - 1]->tid >= m->t[i]->tid)
 			return false;
 	return true;
 }
 
 struct thread_model *model_get(struct model *m, __u32 tid, bool create)
 {
+	struct thread_model *tm;
 	int pos;
 
 	if (find(m, tid, &pos))
-		return &m->t[pos];
+		return m->t[pos];
 	if (!create)
 		return NULL;
 	if (m->n - m->nsorted >= MODEL_TAIL_MAX)
 		model_sort(m);
 	if (m->n == m->cap) {
 		int cap = m->cap ? m->cap * 2 : 64;
-		struct thread_model *t = realloc(m->t, cap * sizeof(*t));
+		struct thread_model **t = realloc(m->t, cap * sizeof(*t));
 
 		if (!t)
 			return NULL;
 		m->t = t;
 		m->cap = cap;
-		/*
-		 * glibc raises its mmap threshold when a big block is freed, so the
-		 * arrays outgrown on the way stay in the heap, free but resident:
-		 * 4.9 MiB at 1000 threads. Growing is rare; give them back.
-		 */
-		malloc_trim(0);
 	}
+	tm = calloc(1, sizeof(*tm));
+	if (!tm)
+		return NULL;
+	tm->tid = tid;
+	tm->policy = -1;
 	pos = m->n++;
+	m->t[pos] = tm;
 	/* after every sorted one: it stays sorted (tids mostly grow) */
-	if (m->nsorted == pos && (!pos || m->t[pos - 1].tid < tid))
+	if (m->nsorted == pos && (!pos || m->t[pos - 1]->tid < tid))
 		m->nsorted++;
-	memset(&m->t[pos], 0, sizeof(m->t[pos]));
-	m->t[pos].tid = tid;
-	m->t[pos].policy = -1;
-	return &m->t[pos];
+	return tm;
+}
+
+static void thread_free(struct thread_model *tm)
+{
+	free(tm->snap);
+	free(tm->life_hist);
+	free(tm);
 }
 
 void model_remove(struct model *m, __u32 tid)
@@ -423,8 +428,7 @@ void model_remove(struct model *m, __u32 tid)
 
 	if (!find(m, tid, &pos))
 		return;
-	free(m->t[pos].snap);
-	free(m->t[pos].life_hist);
+	thread_free(m->t[pos]);
 	memmove(&m->t[pos], &m->t[pos + 1], (m->n - pos - 1) * sizeof(*m->t));
 	m->n--;
 	if (pos < m->nsorted)
@@ -444,7 +448,7 @@ void model_prune_dead(struct model *m, int keep)
 	int i, j, sorted, dead = 0;
 
 	for (i = 0; i < m->n; i++) {
-		struct thread_model *tm = &m->t[i];
+		struct thread_model *tm = m->t[i];
 
 		if (!tm->reported_exit)
 			continue;
@@ -458,15 +462,14 @@ void model_prune_dead(struct model *m, int keep)
 	if (!seq)
 		return;
 	for (i = 0, j = 0; i < m->n; i++)
-		if (m->t[i].reported_exit)
-			seq[j++] = m->t[i].dead_seq;
+		if (m->t[i]->reported_exit)
+			seq[j++] = m->t[i]->dead_seq;
 	qsort(seq, dead, sizeof(*seq), cmp_u64);
 	cut = seq[dead - keep - 1];	/* the newest of the ones to drop */
 	free(seq);
 	for (i = 0, j = 0, sorted = 0; i < m->n; i++) {
-		if (m->t[i].reported_exit && m->t[i].dead_seq <= cut) {
-			free(m->t[i].snap);
-			free(m->t[i].life_hist);
+		if (m->t[i]->reported_exit && m->t[i]->dead_seq <= cut) {
+			thread_free(m->t[i]);
 			m->forgotten++;
 			continue;
 		}
@@ -502,10 +505,8 @@ void model_free(struct model *m)
 {
 	int i;
 
-	for (i = 0; i < m->n; i++) {
-		free(m->t[i].snap);
-		free(m->t[i].life_hist);
-	}
+	for (i = 0; i < m->n; i++)
+		thread_free(m->t[i]);
 	free(m->t);
 	memset(m, 0, sizeof(*m));
 }

@@ -190,13 +190,13 @@ static void on_mark(struct replay *r, const struct rec_interval *ri, bool end)
 	/* the recorded counters; map fills were not recorded (capacity 0: unknown) */
 	health_counters(&r->s->health, ri->counters);
 	for (i = 0; r->pf && i < c->model.n; i++)
-		perfetto_name(r->pf, &r->named, &r->nnamed, &r->cap, c->model.t[i].tgid,
-			      c->model.t[i].tid, c->model.t[i].comm, c->model.t[i].pcomm);
+		perfetto_name(r->pf, &r->named, &r->nnamed, &r->cap, c->model.t[i]->tgid,
+			      c->model.t[i]->tid, c->model.t[i]->comm, c->model.t[i]->pcomm);
 	c->bank = RTSUP_BANK(r->epoch);
 	r->epoch++;
 	/* what the live collector computes per sample: the change since the last mark */
 	for (i = 0; i < c->model.n; i++)
-		model_views(&c->model.t[i], &c->model.t[i].cur, c->model.t[i].snap, c->bank);
+		model_views(c->model.t[i], &c->model.t[i]->cur, c->model.t[i]->snap, c->bank);
 	supervise_interval(r->s, &c->model, c->bank, &self, ri->mono_ns);
 	eventlog_finish(&c->events);
 	causes_sort(&c->causes_win);
@@ -214,7 +214,7 @@ static void on_mark(struct replay *r, const struct rec_interval *ri, bool end)
 	r->last = ri->mono_ns;
 	collector_clear_events(c);
 	for (i = 0; i < c->model.n; i++) {
-		struct thread_model *tm = &c->model.t[i];
+		struct thread_model *tm = c->model.t[i];
 		int j;
 
 		for (j = 0; j < tm->nsys; j++)

@@ -346,15 +346,15 @@ int ros2diag_fill(ros2diag_msg *msg, const struct model *m, const struct supervi
 	msg->header.frame_id = xstrdup(&f, "");
 	msg->status._release = true;
 	for (i = 0; i < m->n; i++)
-		n += ros2diag_listed(&m->t[i]);
+		n += ros2diag_listed(m->t[i]);
 	d = add_status(&f, "rtsup-trace", &s->self);
 	kv(&f, d, "threads", "%d", n);
 	if (s->overhead_pct >= 0)
 		kv(&f, d, "bpf_overhead_pct", "%.3f", s->overhead_pct);
 	kv(&f, d, "worst_level", "%s", level_name(s->self_worst));
 	for (i = 0; i < m->n; i++)
-		if (ros2diag_listed(&m->t[i]))
-			fill_thread(&f, &m->t[i]);
+		if (ros2diag_listed(m->t[i]))
+			fill_thread(&f, m->t[i]);
 	if (s->can)
 		fill_can(&f, s->can, &s->cfg);
 	return f.oom ? -1 : 0;

@@ -78,7 +78,7 @@ void service_status_line(const struct model *m, const struct supervisor *s, char
 	size_t off;
 
 	for (i = 0; i < m->n; i++) {
-		const struct thread_model *tm = &m->t[i];
+		const struct thread_model *tm = m->t[i];
 
 		if (!tm->alive && (tm->replaced || !(tm->was_rt || tm->rule >= 0)))
 			continue;

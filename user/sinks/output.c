@@ -519,7 +519,7 @@ static void json_threads(const struct collector *c, const struct supervisor *sv,
 
 	json_list_begin("threads", &n);
 	for (i = 0; i < c->model.n; i++) {
-		const struct thread_model *tm = &c->model.t[i];
+		const struct thread_model *tm = c->model.t[i];
 
 		if (window && tm->reported_exit)
 			continue;
@@ -680,7 +680,7 @@ static const int *table_pick(const struct collector *c, bool window, int *n, int
 		cap = m;
 	}
 	for (i = 0; i < m; i++) {
-		const struct thread_model *tm = &c->model.t[i];
+		const struct thread_model *tm = c->model.t[i];
 		const struct span_view *s = window ? &tm->win : &tm->life;
 
 		rows[i] = (struct rowcut_row){ .level = window ? tm->st.level : tm->worst,
@@ -742,7 +742,7 @@ static void table_messages(const struct collector *c, const struct supervisor *s
 	int i, j;
 
 	for (i = 0; i < c->model.n; i++) {
-		const struct thread_model *tm = &c->model.t[i];
+		const struct thread_model *tm = c->model.t[i];
 
 		if (tm->reported_exit || !tm->st.nmsg)
 			continue;
@@ -764,7 +764,7 @@ static void table_interval(const struct collector *c, const struct supervisor *s
 	__u64 hidden = 0;
 
 	for (i = 0; i < c->model.n; i++)
-		live += c->model.t[i].alive;
+		live += c->model.t[i]->alive;
 	snprintf(title, sizeof(title),
 		 "rtsup-trace  %.0f s  interval %.2f s  threads %d  lost events %llu%s",
 		 elapsed, interval, live, (unsigned long long)c->counters[RTSUP_C_RB_DROPS],
@@ -776,14 +776,14 @@ static void table_interval(const struct collector *c, const struct supervisor *s
 		printf("%s\n", title);
 	rows = table_pick(c, true, &nrows, &cut);
 	for (i = 0; rows && i < nrows; i++) {
-		const struct thread_model *tm = &c->model.t[rows[i]];
+		const struct thread_model *tm = c->model.t[rows[i]];
 
 		table_row(tm, &tm->win, tm->st.level, color);
 	}
 	/* no memory for the cut: every row, as --all */
 	for (i = 0; !rows && i < c->model.n; i++)
-		if (!c->model.t[i].reported_exit)
-			table_row(&c->model.t[i], &c->model.t[i].win, c->model.t[i].st.level,
+		if (!c->model.t[i]->reported_exit)
+			table_row(c->model.t[i], &c->model.t[i]->win, c->model.t[i]->st.level,
 				  color);
 	table_cut_line(cut);
 	table_messages(c, sv);
@@ -880,14 +880,14 @@ static void table_summary(const struct collector *c, const struct supervisor *sv
 		printf("%s\n", title);
 	rows = table_pick(c, false, &nrows, &cut);
 	for (i = 0; i < (rows ? nrows : c->model.n); i++) {
-		const struct thread_model *tm = &c->model.t[rows ? rows[i] : i];
+		const struct thread_model *tm = c->model.t[rows ? rows[i] : i];
 
 		table_row(tm, &tm->life, tm->worst, use_color(c->o));
 	}
 	table_cut_line(cut);
 	/* why each thread lost RT safety, by reason and by syscall */
 	for (i = 0; i < c->model.n; i++) {
-		const struct thread_model *tm = &c->model.t[i];
+		const struct thread_model *tm = c->model.t[i];
 
 		span_life(&tm->cur, &s);
 		if (!s.unsafe_total && !s.misses)

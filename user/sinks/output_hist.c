@@ -127,7 +127,7 @@ void hist_table(const struct collector *c, const struct supervisor *sv, bool win
 		if (!(o->hist & (1u << m)))
 			continue;
 		for (i = 0, n = 0; i < c->model.n; i++) {
-			const struct thread_model *tm = &c->model.t[i];
+			const struct thread_model *tm = c->model.t[i];
 			const struct metric_view *v = window ? &tm->win.m[m] : &tm->life.m[m];
 
 			if (!hist_shown(tm) || (window && (tm->reported_exit || !v->count)))

@@ -29,8 +29,8 @@ static const char *comm_of(const struct model *m, __u32 tid)
 	int i;
 
 	for (i = 0; m && i < m->n; i++)
-		if (m->t[i].tid == tid)
-			return m->t[i].comm;
+		if (m->t[i]->tid == tid)
+			return m->t[i]->comm;
 	return "?";
 }
 

@@ -257,10 +257,10 @@ static void render_threads(const struct prom_in *in, struct prom_buf *b)
 	prom_sample(b, "rtsup_component_status", prom_level_value(in->s->self.level),
 		    (const char *const[]){ "component", "rtsup-trace", NULL });
 	for (i = 0; i < m->n; i++) {
-		if (!exported(&m->t[i]))
+		if (!exported(m->t[i]))
 			continue;
-		thread_labels(&m->t[i], &tl);
-		prom_sample(b, "rtsup_component_status", prom_level_value(m->t[i].st.level),
+		thread_labels(m->t[i], &tl);
+		prom_sample(b, "rtsup_component_status", prom_level_value(m->t[i]->st.level),
 			    tl.sl);
 	}
 	prom_family(b, "rtsup_component_worst_status", "gauge",
@@ -268,17 +268,17 @@ static void render_threads(const struct prom_in *in, struct prom_buf *b)
 	prom_sample(b, "rtsup_component_worst_status", prom_level_value(in->s->self_worst),
 		    (const char *const[]){ "component", "rtsup-trace", NULL });
 	for (i = 0; i < m->n; i++) {
-		if (!exported(&m->t[i]))
+		if (!exported(m->t[i]))
 			continue;
-		thread_labels(&m->t[i], &tl);
-		prom_sample(b, "rtsup_component_worst_status", prom_level_value(m->t[i].worst),
+		thread_labels(m->t[i], &tl);
+		prom_sample(b, "rtsup_component_worst_status", prom_level_value(m->t[i]->worst),
 			    tl.sl);
 	}
 
 	prom_family(b, "rtsup_thread_info", "gauge",
 		    "Always 1: scheduling policy, RT priority, allowed CPUs and rule of a thread.");
 	for (i = 0; i < m->n; i++) {
-		const struct thread_model *tm = &m->t[i];
+		const struct thread_model *tm = m->t[i];
 		const char *rule = "", *l[17];
 		char prio[16];
 
@@ -300,27 +300,27 @@ static void render_threads(const struct prom_in *in, struct prom_buf *b)
 	for (c = 0; c < TC_NR; c++) {
 		prom_family(b, tcounters[c].name, "counter", tcounters[c].help);
 		for (i = 0; i < m->n; i++) {
-			if (!exported(&m->t[i]))
+			if (!exported(m->t[i]))
 				continue;
-			thread_labels(&m->t[i], &tl);
-			prom_sample(b, tcounters[c].name, tcounter_value(&m->t[i].life, c), tl.l);
+			thread_labels(m->t[i], &tl);
+			prom_sample(b, tcounters[c].name, tcounter_value(&m->t[i]->life, c), tl.l);
 		}
 	}
 
 	prom_family(b, "rtsup_thread_unsafe_events_total", "counter",
 		    "RT-unsafe events inside cycles, by reason.");
 	for (i = 0; i < m->n; i++) {
-		if (!exported(&m->t[i]))
+		if (!exported(m->t[i]))
 			continue;
-		thread_labels(&m->t[i], &tl);
+		thread_labels(m->t[i], &tl);
 		for (k = 0; k < RTSUP_U_NR; k++)
-			sample_kv(b, "rtsup_thread_unsafe_events_total", m->t[i].life.unsafe[k], tl.l,
+			sample_kv(b, "rtsup_thread_unsafe_events_total", m->t[i]->life.unsafe[k], tl.l,
 				  "reason", unsafe_reason_name(k));
 	}
 	prom_family(b, "rtsup_thread_unsafe_syscalls_total", "counter",
 		    "RT-unsafe syscalls inside cycles, by name.");
 	for (i = 0; i < m->n; i++) {
-		const struct thread_model *tm = &m->t[i];
+		const struct thread_model *tm = m->t[i];
 
 		if (!exported(tm))
 			continue;
@@ -340,56 +340,56 @@ static void render_threads(const struct prom_in *in, struct prom_buf *b)
 	prom_family(b, "rtsup_thread_context_switches_total", "counter",
 		    "Context switches of the thread: voluntary (blocks, sleeps) and involuntary (preemptions).");
 	for (i = 0; i < m->n; i++) {
-		if (!exported(&m->t[i]))
+		if (!exported(m->t[i]))
 			continue;
-		thread_labels(&m->t[i], &tl);
-		sample_kv(b, "rtsup_thread_context_switches_total", m->t[i].life.vol_cs, tl.l, "kind",
+		thread_labels(m->t[i], &tl);
+		sample_kv(b, "rtsup_thread_context_switches_total", m->t[i]->life.vol_cs, tl.l, "kind",
 			  "voluntary");
-		sample_kv(b, "rtsup_thread_context_switches_total", m->t[i].life.invol_cs, tl.l, "kind",
+		sample_kv(b, "rtsup_thread_context_switches_total", m->t[i]->life.invol_cs, tl.l, "kind",
 			  "involuntary");
 	}
 	prom_family(b, "rtsup_thread_page_faults_total", "counter",
 		    "Page faults inside cycles, minor and major.");
 	for (i = 0; i < m->n; i++) {
-		if (!exported(&m->t[i]))
+		if (!exported(m->t[i]))
 			continue;
-		thread_labels(&m->t[i], &tl);
-		sample_kv(b, "rtsup_thread_page_faults_total", m->t[i].life.minflt, tl.l, "kind", "minor");
-		sample_kv(b, "rtsup_thread_page_faults_total", m->t[i].life.majflt, tl.l, "kind", "major");
+		thread_labels(m->t[i], &tl);
+		sample_kv(b, "rtsup_thread_page_faults_total", m->t[i]->life.minflt, tl.l, "kind", "minor");
+		sample_kv(b, "rtsup_thread_page_faults_total", m->t[i]->life.majflt, tl.l, "kind", "major");
 	}
 
 	prom_family(b, "rtsup_thread_latency_seconds", "histogram",
 		    "Wakeup latency per cycle: switch-in minus the expected release.");
 	for (i = 0; i < m->n; i++) {
-		if (!exported(&m->t[i]))
+		if (!exported(m->t[i]))
 			continue;
-		thread_labels(&m->t[i], &tl);
-		put_histogram(b, "rtsup_thread_latency_seconds", &m->t[i], RTSUP_M_LATENCY, tl.l);
+		thread_labels(m->t[i], &tl);
+		put_histogram(b, "rtsup_thread_latency_seconds", m->t[i], RTSUP_M_LATENCY, tl.l);
 	}
 	prom_family(b, "rtsup_thread_exec_seconds", "histogram",
 		    "Execution time per cycle (wall clock): release to the next delimiter call.");
 	for (i = 0; i < m->n; i++) {
-		if (!exported(&m->t[i]))
+		if (!exported(m->t[i]))
 			continue;
-		thread_labels(&m->t[i], &tl);
-		put_histogram(b, "rtsup_thread_exec_seconds", &m->t[i], RTSUP_M_EXEC, tl.l);
+		thread_labels(m->t[i], &tl);
+		put_histogram(b, "rtsup_thread_exec_seconds", m->t[i], RTSUP_M_EXEC, tl.l);
 	}
 
 	prom_family(b, "rtsup_thread_ewma_seconds", "gauge",
 		    "Exponentially weighted mean per cycle metric (period, exec, cpu, latency).");
 	for (i = 0; i < m->n; i++) {
-		if (!exported(&m->t[i]))
+		if (!exported(m->t[i]))
 			continue;
-		thread_labels(&m->t[i], &tl);
+		thread_labels(m->t[i], &tl);
 		for (k = 0; k < RTSUP_M_NR; k++)
-			if (m->t[i].life.m[k].count)
-				sample_kv(b, "rtsup_thread_ewma_seconds", m->t[i].life.m[k].ewma / 1e9,
+			if (m->t[i]->life.m[k].count)
+				sample_kv(b, "rtsup_thread_ewma_seconds", m->t[i]->life.m[k].ewma / 1e9,
 					  tl.l, "metric", mnames[k]);
 	}
 	prom_family(b, "rtsup_thread_interval_max_seconds", "gauge",
 		    "Largest value per cycle metric in the last interval (absent: no cycle).");
 	for (i = 0; i < m->n; i++) {
-		const struct thread_model *tm = &m->t[i];
+		const struct thread_model *tm = m->t[i];
 
 		if (!exported(tm))
 			continue;
@@ -408,7 +408,7 @@ static void render_self(const struct prom_in *in, struct prom_buf *b)
 	int i, alive = 0;
 
 	for (i = 0; i < m->n; i++)
-		alive += m->t[i].alive;
+		alive += m->t[i]->alive;
 	prom_family(b, "rtsup_build_info", "gauge", "Always 1: the rtsup-trace version.");
 	prom_sample(b, "rtsup_build_info", 1, (const char *const[]){ "version", "0.1", NULL });
 	prom_family(b, "rtsup_uptime_seconds", "gauge", "Seconds since the BPF programs were attached.");

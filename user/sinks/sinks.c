@@ -270,7 +270,7 @@ static int write_states(struct sinks *sk, const struct collector *c, const struc
 	if (!sk->rec)
 		return 0;
 	for (i = 0; i < c->model.n; i++) {
-		const struct thread_model *tm = &c->model.t[i];
+		const struct thread_model *tm = c->model.t[i];
 
 		if (tm->reported_exit)
 			continue;
@@ -290,8 +290,8 @@ static void name_tracks(struct sinks *sk, const struct model *m)
 	int i;
 
 	for (i = 0; sk->pf && i < m->n; i++)
-		perfetto_name(sk->pf, &sk->named, &sk->nnamed, &sk->cap, m->t[i].tgid,
-			      m->t[i].tid, m->t[i].comm, m->t[i].pcomm);
+		perfetto_name(sk->pf, &sk->named, &sk->nnamed, &sk->cap, m->t[i]->tgid,
+			      m->t[i]->tid, m->t[i]->comm, m->t[i]->pcomm);
 }
 
 /*

@@ -92,6 +92,7 @@ static void test_causes_to_model(void **state)
 	struct causes win = { 0 }, life = { 0 };
 	struct rtsup_cause c = cause(RTSUP_CAUSE_PREEMPT, 812, "noise-hog", 3100000);
 	struct thread_model t[2];
+	struct thread_model *pt[2] = { &t[0], &t[1] };
 	struct model m;
 
 	memset(&m, 0, sizeof(m));
@@ -99,7 +100,7 @@ static void test_causes_to_model(void **state)
 	t[0].tid = 100;
 	t[1].tid = 101;
 	strcpy(t[1].why_win, "stale");
-	m.t = t;
+	m.t = pt;
 	m.n = 2;
 	causes_add(&win, 100, &c);
 	causes_add(&life, 100, &c);
@@ -128,7 +129,7 @@ static void test_causes_backlog_after_the_machine(void **state)
 	struct rtsup_cause b = cause(RTSUP_CAUSE_BACKLOG, 0, "", 60 * MS);
 	struct rtsup_cause e = cause(RTSUP_CAUSE_BACKLOG, 0, "", 1 * MS);
 	const struct cause_group *g;
-	struct thread_model tm;
+	struct thread_model tm, *ptm = &tm;
 	struct model m;
 	char buf[200];
 	size_t n;
@@ -155,7 +156,7 @@ static void test_causes_backlog_after_the_machine(void **state)
 	memset(&m, 0, sizeof(m));
 	memset(&tm, 0, sizeof(tm));
 	tm.tid = 100;
-	m.t = &tm;
+	m.t = &ptm;
 	m.n = 1;
 	causes_to_model(&cs, &cs, &m);
 	/* the timer's 1 and the 4 backlogs after it; not the one after its own CPU time */

@@ -560,9 +560,9 @@ static void check_sorted(struct model *m)
 	assert_true(m->n - m->nsorted <= MODEL_TAIL_MAX);
 	model_sort(m);
 	for (i = 1; i < m->n; i++)
-		if (m->t[i - 1].tid >= m->t[i].tid)
-			fail_msg("not sorted at %d: %u, %u", i, m->t[i - 1].tid,
-				 m->t[i].tid);
+		if (m->t[i - 1]->tid >= m->t[i]->tid)
+			fail_msg("not sorted at %d: %u, %u", i, m->t[i - 1]->tid,
+				 m->t[i]->tid);
 }
 
 /* model_get creates zeroed entries in tid order and finds them again */
@@ -599,6 +599,23 @@ static void test_model_get_sorted(void **state)
 	assert_null(model_get(m, 1300, false));
 }
 
+/* a thread's model stays where it is while others come, sort and go */
+static void test_model_entries_do_not_move(void **state)
+{
+	struct model *m = *state;
+	struct thread_model *first = model_get(m, 5000, true), *tm;
+	int i;
+
+	for (i = 0; i < 1000; i++)	/* grows, sorts the tail, keeps 5000 in the middle */
+		model_get(m, (__u32)(i * 7919) % 10000, true);
+	for (i = 0; i < 5000; i += 2)
+		model_remove(m, (__u32)i);
+	model_sort(m);
+	tm = model_get(m, 5000, false);
+	assert_ptr_equal(tm, first);
+	assert_int_equal(tm->tid, 5000);
+}
+
 /* model_remove keeps the order; unknown tids are ignored */
 static void test_model_remove(void **state)
 {
@@ -627,12 +644,12 @@ static void test_model_remove(void **state)
 	model_remove(m, 2);
 	model_remove(m, 99);
 	check_sorted(m);
-	assert_int_equal(m->t[0].tid, 3);
-	assert_int_equal(m->t[m->n - 1].tid, 98);
+	assert_int_equal(m->t[0]->tid, 3);
+	assert_int_equal(m->t[m->n - 1]->tid, 98);
 	/* re-adding a removed tid lands in place */
 	assert_non_null(model_get(m, 4, true));
 	check_sorted(m);
-	assert_int_equal(m->t[1].tid, 4);
+	assert_int_equal(m->t[1]->tid, 4);
 }
 
 /*
@@ -663,17 +680,17 @@ static void test_model_tail_storm(void **state)
 	assert_int_equal(m->n, 5000);
 	assert_true(m->nsorted < m->n);	/* a tail is left to sort */
 	/* remove from the tail and from the sorted part */
-	model_remove(m, m->t[m->n - 1].tid);
-	model_remove(m, m->t[0].tid);
+	model_remove(m, m->t[m->n - 1]->tid);
+	model_remove(m, m->t[0]->tid);
 	assert_true(model_sorted(m));
 	/* prune half of them dead, oldest first */
 	for (i = 0; i < m->n; i += 2)
-		m->t[i].reported_exit = true;
+		m->t[i]->reported_exit = true;
 	model_prune_dead(m, 100);
 	assert_true(model_sorted(m));
 	assert_int_equal(m->n, 4998 - 2499 + 100);
 	for (i = 0; i < m->n; i++)
-		assert_int_equal(m->t[i].tgid, m->t[i].tid + 1);
+		assert_int_equal(m->t[i]->tgid, m->t[i]->tid + 1);
 	check_sorted(m);
 	assert_int_equal(m->nsorted, m->n);
 }
@@ -743,6 +760,7 @@ int main(void)
 		TS(test_model_set_snapshots),
 		TS(test_model_life_hist_wrap),
 		M(test_model_get_sorted),
+		M(test_model_entries_do_not_move),
 		M(test_model_remove),
 		M(test_model_tail_storm),
 		M(test_model_sys_set),

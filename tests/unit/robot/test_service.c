@@ -17,23 +17,26 @@
 
 static struct thread_model *add(struct model *m, int i, enum level l, bool alive, bool rt)
 {
-	memset(&m->t[i], 0, sizeof(m->t[i]));
-	m->t[i].tid = 100 + i;
-	m->t[i].st.level = l;
-	m->t[i].alive = alive;
-	m->t[i].was_rt = rt;
-	m->t[i].rule = -1;
-	return &m->t[i];
+	memset(m->t[i], 0, sizeof(*m->t[i]));
+	m->t[i]->tid = 100 + i;
+	m->t[i]->st.level = l;
+	m->t[i]->alive = alive;
+	m->t[i]->was_rt = rt;
+	m->t[i]->rule = -1;
+	return m->t[i];
 }
 
 static void test_service_status_line(void **state)
 {
 	static struct thread_model t[16];
-	struct model m = { .t = t, .n = 0, .cap = 16 };
+	static struct thread_model *pt[16];
+	struct model m = { .t = pt, .n = 0, .cap = 16 };
 	struct supervisor s;
 	char line[256];
 	int i;
 
+	for (i = 0; i < 16; i++)
+		pt[i] = &t[i];
 	memset(&s, 0, sizeof(s));
 	service_status_line(&m, &s, line, sizeof(line));
 	assert_string_equal(line, "0 threads");
@@ -50,7 +53,7 @@ static void test_service_status_line(void **state)
 	s.self.level = LEVEL_WARN;
 	service_status_line(&m, &s, line, sizeof(line));
 	assert_string_equal(line, "12 threads OK, 1 WARN, 1 ERROR, 1 STALE; rtsup-trace WARN");
-	m.t[13].replaced = true;
+	m.t[13]->replaced = true;
 	s.self.level = LEVEL_OK;
 	service_status_line(&m, &s, line, sizeof(line));
 	assert_string_equal(line, "12 threads OK, 1 WARN, 1 ERROR");

@@ -351,12 +351,12 @@ static void test_model_prune_dead(void **state)
 	assert_int_equal(f->m.n, 25);
 	assert_int_equal(f->m.forgotten, 25);
 	for (i = 0; i < f->m.n; i++) {
-		alive += f->m.t[i].alive;
+		alive += f->m.t[i]->alive;
 		/* the oldest dead went first: the survivors died last */
-		if (!f->m.t[i].alive)
-			assert_true(f->m.t[i].tid > 50 - 25);
+		if (!f->m.t[i]->alive)
+			assert_true(f->m.t[i]->tid > 50 - 25);
 		if (i)
-			assert_true(f->m.t[i].tid > f->m.t[i - 1].tid);
+			assert_true(f->m.t[i]->tid > f->m.t[i - 1]->tid);
 	}
 	assert_int_equal(alive, 5);
 	/* threads not yet reported are never dropped */
