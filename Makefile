@@ -252,6 +252,9 @@ $(OUT)/tests/test_ros2diag: $(OUT)/idl/diagnostics.h
 $(OUT)/tests/%: $$(wildcard tests/unit/*/$$*.c) $$(UNIT_DEPS_$$*) $(OUT)/syscall_table.h | $(OUT)/tests
 	$(call msg,CC,$@)
 	$(Q)$(CC) $(CFLAGS) $(WARN) $(CPPFLAGS) $(INCLUDES) $(USER_INC) $< $(UNIT_DEPS_$*) -lcmocka -lm $(UNIT_LIBS_$*) -o $@
+	@# -MMD names one .d after -o: the last source's headers only; this lists every source's
+	$(Q)$(CC) $(filter-out -MMD -MP,$(CPPFLAGS)) $(INCLUDES) $(USER_INC) -MM -MP -MT $@ \
+		$< $(UNIT_DEPS_$*) > $@.d
 
 # every binary runs even when one fails; make fails at the end
 unit: $(UNIT_BINS)

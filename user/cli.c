@@ -193,23 +193,11 @@ static int hist_metric(const char *name)
 /* ring_size_parse - "64K", "2M", "4194304": a power of two from 64 KiB to 256 MiB */
 static int ring_size_parse(const char *s, __u32 *out)
 {
-	char buf[16];
-	size_t n = strlen(s);
-	long v, mul = 1;
+	long v;
 
-	if (!n || n >= sizeof(buf))
+	if (strict_size(s, 1L << 16, 1L << 28, &v) || (v & (v - 1)))
 		return -1;
-	memcpy(buf, s, n + 1);
-	if (strchr("kK", buf[n - 1]))
-		mul = 1L << 10;
-	else if (strchr("mM", buf[n - 1]))
-		mul = 1L << 20;
-	if (mul > 1)
-		buf[n - 1] = '\0';
-	if (strict_long(buf, 1, 1L << 28, &v) || v * mul < (1L << 16) || v * mul > (1L << 28) ||
-	    (v * mul & (v * mul - 1)))
-		return -1;
-	*out = v * mul;
+	*out = v;
 	return 0;
 }
 

@@ -32,20 +32,10 @@ const char *stacks_name(__u32 kind)
 
 int stack_size_parse(const char *s, __u32 *out)
 {
-	char buf[16];
-	size_t n = strlen(s);
-	long v, mul = 1;
+	long v;
 
-	if (!n || n >= sizeof(buf))
+	if (strict_size(s, 512, RTSUP_STACK_DUMP_MAX, &v) || v % 8)
 		return -1;
-	memcpy(buf, s, n + 1);
-	if (buf[n - 1] == 'K' || buf[n - 1] == 'k') {
-		mul = 1024;
-		buf[n - 1] = '\0';
-	}
-	if (strict_long(buf, 1, RTSUP_STACK_DUMP_MAX, &v) || v * mul > RTSUP_STACK_DUMP_MAX ||
-	    v * mul < 512 || (v * mul) % 8)
-		return -1;
-	*out = v * mul;
+	*out = v;
 	return 0;
 }

@@ -13,6 +13,8 @@
 #include <cmocka.h>
 
 #include "config/config.h"
+#include "config/stackopt.h"
+#include "config/strict.h"
 #include "can.h"
 
 /* test files, relative to the project root (make unit runs from there) */
@@ -1140,12 +1142,46 @@ BAD(can_iface_name, "bad-can-iface-name.yaml", "4:18: bad interface name 'can/0'
 BAD(can_dup_key, "bad-can-dup-key.yaml", "5:7: duplicate key 'id' in can node 'x'")
 BAD(can_group_empty, "bad-can-group-empty.yaml", "5:14: group must not be empty")
 
+/* strict_size: the one size parser of --event-buffer and --stack-size */
+static void test_config_strict_size(void **state)
+{
+	static const struct { const char *s; long min, max, want; } cases[] = {
+		{ "64K", 1, 1L << 28, 65536 }, { "64k", 1, 1L << 28, 65536 },
+		{ "2M", 1, 1L << 28, 2L << 20 }, { "4194304", 1, 1L << 28, 4194304 },
+		{ "256M", 1, 1L << 28, 1L << 28 }, { "257M", 1, 1L << 28, -1 },
+		{ "63K", 1L << 16, 1L << 28, -1 }, { "", 1, 100, -1 }, { "K", 1, 1L << 20, -1 },
+		{ "1KK", 1, 1L << 20, -1 }, { "-1K", 1, 1L << 20, -1 }, { "1G", 1, 1L << 40, -1 },
+		{ " 1K", 1, 1L << 20, -1 }, { "99999999999999999K", 1, 1L << 40, -1 },
+		{ "12345678901234567", 1, 1L << 40, -1 },
+	};
+	__u32 u;
+	size_t i;
+
+	for (i = 0; i < sizeof(cases) / sizeof(cases[0]); i++) {
+		long v = -1;
+		int r = strict_size(cases[i].s, cases[i].min, cases[i].max, &v);
+
+		if ((cases[i].want < 0) != (r < 0) || (r == 0 && v != cases[i].want))
+			fail_msg("'%s': %d, %ld", cases[i].s, r, v);
+	}
+	/* --stack-size: 512 to 64K, 8-aligned */
+	assert_int_equal(stack_size_parse("8K", &u), 0);
+	assert_int_equal(u, 8192);
+	assert_int_equal(stack_size_parse("512", &u), 0);
+	assert_int_equal(stack_size_parse("504", &u), -1);
+	assert_int_equal(stack_size_parse("513", &u), -1);
+	assert_int_equal(stack_size_parse("65K", &u), -1);
+	assert_int_equal(stack_size_parse("1M", &u), -1);
+	(void)state;
+}
+
 #define T(name) cmocka_unit_test(test_config_##name)
 
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		T(defaults),
+		T(strict_size),
 		T(can_defaults),
 		T(full),
 		T(can_full),
