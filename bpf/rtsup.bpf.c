@@ -1069,8 +1069,7 @@ static __always_inline struct rtsup_thread *rt_at_switch(struct task_struct *nex
 		return nt ? nt : rt_add(next);
 	case RT_LET_GO:
 		tgid = TREAD(btf, next, tgid);
-		if (nt && !bpf_map_lookup_elem(&tgids, &tgid))
-			nt->rt |= RTSUP_RT_LEFT;
+		rt_mark_left(nt, !!bpf_map_lookup_elem(&tgids, &tgid));
 		return nt;
 	default:
 		return nt;
@@ -1281,9 +1280,7 @@ static __always_inline int on_setsched(struct task_struct *p)
 		rt_add(p);
 		break;
 	case RT_LET_GO:
-		/* its process became a target meanwhile (--comm, exec, -- CMD): kept */
-		if (t && !bpf_map_lookup_elem(&tgids, &tgid))
-			t->rt |= RTSUP_RT_LEFT;
+		rt_mark_left(t, !!bpf_map_lookup_elem(&tgids, &tgid));
 		break;
 	default:
 		break;

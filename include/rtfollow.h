@@ -69,4 +69,18 @@ RTSUP_INLINE enum rt_change rt_on_policy(__u32 policy, const struct rtsup_thread
 	return RT_KEEP;
 }
 
+/*
+ * rt_mark_left - carry out an RT_LET_GO on entry t: marked RTSUP_RT_LEFT,
+ * unless its process is a target (--comm, exec or -- CMD made it one after
+ * --rt took the thread): such a thread stays. Returns 1 when marked. The
+ * hook, the per-switch fallback and userspace's policy read all let go here.
+ */
+RTSUP_INLINE int rt_mark_left(struct rtsup_thread *t, int process_is_target)
+{
+	if (!t || process_is_target)
+		return 0;
+	t->rt |= RTSUP_RT_LEFT;
+	return 1;
+}
+
 #endif

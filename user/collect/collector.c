@@ -431,10 +431,9 @@ static void rt_left_by_read(struct collector *c, struct thread_model *tm)
 	__u32 tgid = tm->tgid, one;
 
 	if (!c->skel->rodata->cfg_rt_at_switch || !tm->alive || tm->policy < 0 ||
-	    rt_on_policy(tm->policy, &tm->cur) != RT_LET_GO ||
-	    !bpf_map_lookup_elem(bpf_map__fd(c->skel->maps.tgids), &tgid, &one))
+	    rt_on_policy(tm->policy, &tm->cur) != RT_LET_GO)
 		return;
-	tm->cur.rt |= RTSUP_RT_LEFT;
+	rt_mark_left(&tm->cur, !bpf_map_lookup_elem(bpf_map__fd(c->skel->maps.tgids), &tgid, &one));
 }
 
 /* take - one thread's new kernel snapshot into the model */

@@ -85,6 +85,22 @@ static void test_rtfollow_back_to_rt(void **state)
 	assert_int_equal(rt_on_policy(RTF_SCHED_FIFO, &t), RT_ADOPT);
 }
 
+/* a let-go marks the entry, unless the thread's process became a target */
+static void test_rtfollow_mark_left(void **state)
+{
+	struct rtsup_thread t;
+
+	memset(&t, 0, sizeof(t));
+	t.rt = RTSUP_RT_ONLY;
+	assert_int_equal(rt_mark_left(&t, 1), 0);
+	assert_int_equal(t.rt, RTSUP_RT_ONLY);
+	assert_false(rt_entry_stale(&t));
+	assert_int_equal(rt_mark_left(&t, 0), 1);
+	assert_int_equal(t.rt, RTSUP_RT_ONLY | RTSUP_RT_LEFT);
+	assert_true(rt_entry_stale(&t));
+	assert_int_equal(rt_mark_left(NULL, 0), 0);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -93,6 +109,7 @@ int main(void)
 		cmocka_unit_test(test_rtfollow_stays_rt),
 		cmocka_unit_test(test_rtfollow_leaves_rt),
 		cmocka_unit_test(test_rtfollow_back_to_rt),
+		cmocka_unit_test(test_rtfollow_mark_left),
 	};
 
 	return cmocka_run_group_tests_name("rtfollow", tests, NULL, NULL);
