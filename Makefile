@@ -230,6 +230,7 @@ UNIT_LIBS_test_actions := -ljansson -lyaml
 UNIT_DEPS_test_targets := user/collect/targets.c
 UNIT_DEPS_test_pidns := user/collect/pidns.c
 UNIT_DEPS_test_selfsched := user/collect/selfsched.c
+UNIT_DEPS_test_clockwatch := user/collect/clockwatch.c
 UNIT_DEPS_test_procmaps := user/collect/procmaps.c
 UNIT_DEPS_test_fpcheck := user/collect/fpcheck.c
 UNIT_LIBS_test_fpcheck := -ldw -lelf

@@ -799,9 +799,18 @@ static __always_inline int fd_is_file_or_tty(struct task_struct *task, __u64 fd)
 	return major == 4 || major == 5 || (major >= 136 && major <= 143);
 }
 
-/* sleep_release - requested release of a sleep syscall, 0 if unknown */
+/* clock_off_of - offset to CLOCK_MONOTONIC of a clock id (userspace writes them) */
+static __always_inline __s64 clock_off_of(__u64 clk)
+{
+	return clock_off[clk & 15];
+}
+
+/*
+ * sleep_release - requested release of a sleep syscall, 0 if unknown; an
+ * absolute one's clock and the offset it was converted with in *clk, *off
+ */
 static __always_inline __u64 sleep_release(struct pt_regs *regs, __u32 cls, __u64 now,
-					   int *absolute, const int btf)
+					   int *absolute, __u32 *clk_id, __s64 *off, const int btf)
 {
 	struct __kernel_timespec ts;
 	void *req;
@@ -822,7 +831,9 @@ static __always_inline __u64 sleep_release(struct pt_regs *regs, __u32 cls, __u6
 	if (!(flags & TIMER_ABSTIME))
 		return now + ns;
 	*absolute = 1;
-	return ns - clock_off[clk & 15];
+	*clk_id = clk & 15;
+	*off = clock_off_of(clk);
+	return ns - *off;
 }
 
 /*
@@ -908,7 +919,9 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 	struct cycle_cfg cf;
 	__u32 nr, *cls, ev;
 	__u64 now, expected;
-	int unsafe, delim, absolute = 0;
+	int unsafe, delim, absolute = 0, resumed = 0;
+	__u32 clk = 0;
+	__s64 off = 0;
 
 	if (!t || t->exited)
 		return 0;
@@ -932,7 +945,7 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 	else
 		delim = *cls & RTSUP_SC_DELIM;
 	if (delim) {
-		expected = sleep_release(regs, *cls, now, &absolute, btf);
+		expected = sleep_release(regs, *cls, now, &absolute, &clk, &off, btf);
 		/* a relative sleep inside an absolute loop is no boundary */
 		if (cycle_rel_sleep_in_loop(t, *cls, absolute))
 			delim = 0;
@@ -943,6 +956,7 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 	} else if ((*cls & RTSUP_SC_RESTART) && (t->cs.flags & RTSUP_CS_INTR)) {
 		/* the kernel resumes the interrupted sleep with its own arguments */
 		delim = 1;
+		resumed = 1;
 		absolute = t->cs.abs_expected != 0;
 		expected = absolute ? t->cs.abs_expected : t->cs.expected;
 	}
@@ -950,6 +964,9 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 		cf = cfg(tc);
 		ev = cycle_delim_enter(t, &cf, now, expected, absolute,
 				       TREAD(btf, task, min_flt), TREAD(btf, task, maj_flt), &c);
+		/* the kernel's restart keeps the interrupted sleep's clock */
+		if (!resumed)
+			cycle_sleep_clock(&t->cs, absolute, clk, off);
 		why_delim(&t->why, ev, ev & CYC_EV_CLOSED ? c.cpu : 0,
 			  ev & CYC_EV_CLOSED ? c.nominal : 0, now, expected);
 		note_wake(t);
@@ -995,6 +1012,9 @@ static __always_inline int on_sys_exit(long ret, const int btf)
 		return 0;
 	settle(t, held_switch_in());
 	task = CURRENT(btf);
+	/* a step of the sleep's clock (date -s, NTP) moved its release */
+	if (t->cs.clk)
+		cycle_clock_at_exit(&t->cs, clock_off_of(t->cs.clk - 1));
 	/* a delimiter that slept was released at its switch-in: no clock */
 	cycle_delim_exit(t, cycle_delim_exit_timed(t) ? bpf_ktime_get_ns() : 0,
 			 cycle_ret_interrupted(ret), TREAD(btf, task, min_flt),

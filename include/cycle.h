@@ -57,6 +57,21 @@
  */
 #define CYC_REL_SLACK	20000ULL
 
+/*
+ * An absolute release given again after a signal (the program's EINTR
+ * loop) is the same wait within this: the offset of its clock, written by
+ * userspace each interval, moves by the time between two clock reads
+ * (~100 ns) and by NTP's slew. Two cycles' releases are a period apart.
+ */
+#define CYC_ABS_SAME	10000ULL
+
+/*
+ * A clock's offset to CLOCK_MONOTONIC moves by at most 0.05 % with an NTP
+ * slew (500 ppm); a release moved earlier by more than this and 1/1024 of
+ * the period was a step forward (cycle_clock_moved).
+ */
+#define CYC_SLEW_SLACK	1000000ULL
+
 /* Settings the state machine needs; rodata on the BPF side. */
 struct cycle_cfg {
 	__u32 ewma_w;		/* EWMA weight, per RTSUP_EWMA_ONE */
@@ -267,12 +282,66 @@ RTSUP_INLINE int cycle_delim_resumes(const struct rtsup_cycle_state *cs, __u64 n
 	if (!(cs->flags & RTSUP_CS_INTR))
 		return 0;
 	if (absolute)
-		return expected && expected == cs->abs_expected;
+		return expected && cs->abs_expected &&
+		       (expected > cs->abs_expected ? expected - cs->abs_expected :
+						      cs->abs_expected - expected) <= CYC_ABS_SAME;
 	if (cs->abs_expected || !expected || !cs->expected)
 		return !cs->abs_expected && !expected && !cs->expected;
 	/* the time since the interrupted return is not part of the remainder */
 	return expected - (now > cs->start ? now - cs->start : 0) <=
 	       cs->expected + CYC_REL_SLACK;
+}
+
+/*
+ * cycle_clock_moved - the release of an absolute sleep on a clock other
+ * than CLOCK_MONOTONIC (CLOCK_REALTIME, TAI, BOOTTIME), converted at the
+ * entry with that clock's offset then ('off_in'), and seen again at the
+ * return with its offset now ('off_now'). The kernel's timer follows the
+ * sleep's own clock: a slew or a step back moves the release, which is
+ * where the new offset puts it (a step back of a second is a second more
+ * of sleep, not a second of latency). A step forward beyond what a slew
+ * does (CYC_SLEW_SLACK, plus 1/1024 of the period) released the thread at
+ * the step, a time no hook saw: no latency (0), as for a sleep a signal cut
+ * short; so is a release moved before the clock's start.
+ */
+RTSUP_INLINE __u64 cycle_clock_moved(__u64 expected, __s64 off_in, __s64 off_now, __u64 period)
+{
+	__s64 shift = off_in - off_now;	/* > 0: a step back, the release came later */
+
+	if (!expected || (shift < 0 && ((__u64)-shift > CYC_SLEW_SLACK + (period >> 10) ||
+					(__u64)-shift >= expected)))
+		return 0;
+	return expected + shift;
+}
+
+/*
+ * cycle_sleep_clock - the delimiter entered sleeps until 'expected', an
+ * absolute time on clock 'clk' converted with offset 'off' (absolute), or
+ * not. Kept for cycle_clock_at_exit.
+ */
+RTSUP_INLINE void cycle_sleep_clock(struct rtsup_cycle_state *cs, int absolute, __u32 clk,
+				    __s64 off)
+{
+	cs->clk = absolute ? clk + 1 : 0;
+	cs->clk_off = absolute ? off : 0;
+}
+
+/*
+ * cycle_clock_at_exit - the delimiter returns and its clock's offset is
+ * 'off_now': the pending release (cycle_clock_moved) and the last
+ * requested one, from which the next distance is taken, move with it.
+ * Called before cycle_delim_exit.
+ */
+RTSUP_INLINE void cycle_clock_at_exit(struct rtsup_cycle_state *cs, __s64 off_now)
+{
+	__s64 shift = cs->clk_off - off_now;
+
+	if (!cs->in_delim || !cs->clk || !shift)
+		return;
+	cs->expected = cycle_clock_moved(cs->expected, cs->clk_off, off_now, cs->nominal);
+	if (cs->abs_expected && (shift > 0 || (__u64)-shift < cs->abs_expected))
+		cs->abs_expected += shift;
+	cs->clk_off = off_now;
 }
 
 /* cycle_same_dist - two distances between releases equal within 1/64 (rounding of the program) */

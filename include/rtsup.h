@@ -226,6 +226,9 @@ struct rtsup_cycle_state {
 	__u64 dist;		/* last distance between two absolute releases */
 	__u32 run;		/* consecutive absolute releases at distance 'dist' */
 	__u32 rel_sleeps;	/* relative sleeps since the last absolute one */
+	__s64 clk_off;		/* the sleep's clock - CLOCK_MONOTONIC at its entry (cycle_clock_moved) */
+	__u32 clk;		/* that clock's id + 1 for an absolute sleep, 0 = none */
+	__u32 pad_clk;
 	__u64 delim_key;	/* the wait that ends a cycle (keyed delimiters), 0 = not learned */
 	__u64 cand_key;		/* the key of the delimiter call in progress */
 	/* unsafe syscalls of the running cycle, by number, counted at its end */

@@ -637,13 +637,20 @@ guest_only = pytest.mark.skipif(not in_guest(), reason="changes the machine's cl
                                 "only inside the RT guest (test_guest.py runs it)")
 
 
+def stepped_by(err):
+    """The one step of the wall clock rtsup-trace said on stderr, in s."""
+    said = [line for line in err.splitlines() if "the wall clock was stepped by" in line]
+    assert len(said) == 1, err
+    return float(said[0].split("stepped by ")[1].split(" s;")[0])
+
+
 @guest_only
 def test_in_guest_clock_step_forward(tmp_path):
     """The clock steps forward 5 s (NTP after a boot in 1970) under a loop
     sleeping to CLOCK_REALTIME deadlines: the loop starts its schedule again;
-    the step is no wakeup latency (the kernel side converts a deadline with
-    the last interval's clock offset: the new deadline looks 5 s away, an
-    early release), the cycles stay exact and the run goes on."""
+    the step released the sleep in progress, at a time no hook saw: no
+    latency, not 5 s of it; the cycles stay exact, the run goes on, and the
+    step is said once on stderr."""
     out = tmp_path / "rt.json"
     period_us = PERIOD_US
     n = 3000000 // period_us  # 3 s of cycles
@@ -655,7 +662,7 @@ def test_in_guest_clock_step_forward(tmp_path):
         time.clock_settime(time.CLOCK_REALTIME, time.time() + 5)
         assert prog.wait(timeout=120) == 0
         time.sleep(0.5)
-        intervals, summary, _ = tr.stop()
+        intervals, summary, err = tr.stop()
     finally:
         if prog.poll() is None:
             prog.kill()
@@ -671,6 +678,44 @@ def test_in_guest_clock_step_forward(tmp_path):
     # the early-release rule the step would show as a 5 s latency.
     assert tot["latency_ns"]["max"] <= truth["worst_late_ns"] + 1000000, (tot, truth)
     assert tot["latency_ns"]["max"] < 1e9
+    # said once, with its size: 5 s less the moments between our clock read and the set
+    assert 4.5 < stepped_by(err) <= 5.0, err
+
+
+@guest_only
+def test_in_guest_clock_step_backward(tmp_path):
+    """The clock steps back 2 s under a loop sleeping to CLOCK_REALTIME
+    deadlines: the sleep in progress lasts 2 s more, as the kernel's timer
+    follows the clock. On the loop's clock it woke on time, so the tool
+    reports no 2 s latency (before: the kernel side judged the release with
+    the offset of the sleep's entry); the loop keeps its schedule, the
+    cycles stay exact, the step is said once on stderr."""
+    out = tmp_path / "rt.json"
+    n = 3000000 // PERIOD_US  # 3 s of cycles, 2 s more in one of them
+    tr = Trace(["--comm", "rtback", "-i", "500ms", "--no-overhead"])
+    prog = subprocess.Popen([str(PROGS / "realtime_loop"), "rtback", str(PERIOD_US), str(n),
+                             str(out)])
+    try:
+        time.sleep(1.5)
+        time.clock_settime(time.CLOCK_REALTIME, time.time() - 2)
+        assert prog.wait(timeout=120) == 0
+        time.sleep(0.5)
+        intervals, summary, err = tr.stop()
+    finally:
+        if prog.poll() is None:
+            prog.kill()
+    truth = json.loads(out.read_text())
+    assert truth["restarts"] == 0 and truth["stretched"] == 1, truth
+    t = [x for x in summary["threads"] if x["comm"] == "rtback"]
+    assert len(t) == 1, summary["threads"]
+    tot = t[0]["total"]
+    assert tot["cycles"] == n - 1, (tot["cycles"], n)
+    # the loop's lateness on its own clock, the step's sleep included, bounds
+    # the tool's; 1 ms for a TCG guest's clock reads (as above). Without the
+    # fix the tool says 2 s.
+    assert tot["latency_ns"]["max"] <= truth["worst_late_rt_ns"] + 1000000, (tot, truth)
+    # 2 s and the moments between our clock read and the set
+    assert -2.5 < stepped_by(err) <= -2.0, err
 
 
 @guest_only

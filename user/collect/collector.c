@@ -10,7 +10,9 @@
 #include <sys/syscall.h>
 #include <bpf/bpf.h>
 #include <bpf/libbpf.h>
+#include <sys/epoll.h>
 #include "collect/collector.h"
+#include "collect/clockwatch.h"
 #include "collect/liveness.h"
 #include "cycle.h"
 #include "rtfollow.h"
@@ -43,12 +45,50 @@ static __s64 clock_offset(clockid_t clk)
 /* update_clocks - let the kernel side convert absolute sleeps to its clock */
 static void update_clocks(struct collector *c)
 {
-	static const clockid_t clks[] = { CLOCK_REALTIME, CLOCK_BOOTTIME, CLOCK_TAI };
+	/* a clock and the one it reads (the alarm clocks sleep on their base) */
+	static const clockid_t clks[][2] = {
+		{ CLOCK_REALTIME, CLOCK_REALTIME }, { CLOCK_REALTIME_ALARM, CLOCK_REALTIME },
+		{ CLOCK_BOOTTIME, CLOCK_BOOTTIME }, { CLOCK_BOOTTIME_ALARM, CLOCK_BOOTTIME },
+		{ CLOCK_TAI, CLOCK_TAI },
+	};
 	size_t i;
 
 	for (i = 0; i < sizeof(clks) / sizeof(clks[0]); i++)
-		c->skel->bss->clock_off[clks[i]] = clock_offset(clks[i]);
+		c->skel->bss->clock_off[clks[i][0]] = clock_offset(clks[i][1]);
 	c->real_off = c->skel->bss->clock_off[CLOCK_REALTIME];
+}
+
+/*
+ * watch_clock - the ring buffer's epoll fd and a clockwatch timer in one
+ * epoll set, so a step of the wall clock wakes the poll. Without it (no
+ * timerfd cancel: kernels before 3.0) the offsets follow each interval.
+ */
+static void watch_clock(struct collector *c)
+{
+	struct epoll_event ev = { .events = EPOLLIN };
+
+	c->clock_fd = clockwatch_open();
+	c->epfd = c->clock_fd < 0 ? -1 : epoll_create1(EPOLL_CLOEXEC);
+	if (c->epfd >= 0 && !epoll_ctl(c->epfd, EPOLL_CTL_ADD, c->clock_fd, &ev) &&
+	    !epoll_ctl(c->epfd, EPOLL_CTL_ADD, ring_buffer__epoll_fd(c->rb), &ev))
+		return;
+	if (c->epfd >= 0)
+		close(c->epfd);
+	if (c->clock_fd >= 0)
+		close(c->clock_fd);
+	c->epfd = c->clock_fd = -1;
+}
+
+/* clock_stepped - the wall clock was stepped: new offsets to the kernel side now */
+static void clock_stepped(struct collector *c)
+{
+	__s64 before = c->real_off;
+
+	update_clocks(c);
+	c->clock_steps++;
+	fprintf(stderr, "rtsup-trace: the wall clock was stepped by %+.6f s; "
+		"absolute sleeps on it are judged with its new time\n",
+		(c->real_off - before) / 1e9);
 }
 
 /*
@@ -234,6 +274,7 @@ int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct opt
 	c->skel = skel;
 	c->o = o;
 	c->start_ns = mono_now();
+	c->clock_fd = c->epfd = -1;
 	c->batch_cap = COLLECTOR_BATCH;
 	c->batch_keys = calloc(c->batch_cap, sizeof(*c->batch_keys));
 	c->batch_vals = calloc(c->batch_cap, sizeof(*c->batch_vals));
@@ -248,6 +289,7 @@ int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct opt
 		fprintf(stderr, "rtsup-trace: cannot create the ring buffer: %s\n", strerror(errno));
 		return -1;
 	}
+	watch_clock(c);
 	if (open_stacks(c))
 		return -1;
 	err = targets_scan(&o->targets, add_initial, c);
@@ -268,7 +310,17 @@ int collector_poll(struct collector *c, int ms)
 	int err, budget = ms > COLLECTOR_POLL_MIN_MS ? ms : COLLECTOR_POLL_MIN_MS;
 
 	c->poll_until = mono_now() + (__u64)budget * 1000000;
-	err = ring_buffer__poll(c->rb, ms);
+	if (c->epfd >= 0) {
+		struct epoll_event ev[2];
+
+		if (epoll_wait(c->epfd, ev, 2, ms) < 0 && errno != EINTR)
+			return -errno;
+		if (clockwatch_stepped(c->clock_fd) > 0)
+			clock_stepped(c);
+		err = ring_buffer__consume(c->rb);
+	} else {
+		err = ring_buffer__poll(c->rb, ms);
+	}
 	if (c->stack_rb)
 		ring_buffer__consume(c->stack_rb);
 	return err == -EINTR || err == -EAGAIN ? 0 : err;
@@ -795,6 +847,10 @@ void collector_clear_events(struct collector *c)
 
 void collector_free(struct collector *c)
 {
+	if (c->rb && c->epfd >= 0) {
+		close(c->epfd);
+		close(c->clock_fd);
+	}
 	ring_buffer__free(c->rb);
 	ring_buffer__free(c->stack_rb);
 	unwinder_free(c->unwinder);

@@ -42,6 +42,10 @@ struct collector {
 	__u64 poll_until;		/* the running poll stops consuming here (ns) */
 	__u64 polled;			/* records consumed, to read the clock once in 64 */
 	__s64 real_off;			/* CLOCK_REALTIME - CLOCK_MONOTONIC, ns */
+	/* live only (rb): a wall clock step updates the offsets at once (clockwatch.h) */
+	int clock_fd;			/* -1: not watched, offsets each interval only */
+	int epfd;			/* the ring buffer's epoll fd and clock_fd */
+	__u64 clock_steps;		/* wall clock steps seen */
 	__u64 start_ns;			/* monotonic start */
 	__u32 map_entries;		/* entries of the thread map at the last sample */
 	/* the thread map is read COLLECTOR_BATCH entries per syscall */

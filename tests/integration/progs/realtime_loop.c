@@ -1,12 +1,15 @@
 // SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
 /*
  * realtime_loop.c - a control loop on CLOCK_REALTIME for test_faults.py's
- * clock step: clock_nanosleep(CLOCK_REALTIME, TIMER_ABSTIME) every period;
+ * clock steps: clock_nanosleep(CLOCK_REALTIME, TIMER_ABSTIME) every period;
  * a wakeup more than 2 s past its deadline (the clock stepped forward; an
  * emulated guest is often 100 ms late) starts the schedule again from
- * now, as a careful loop does. It writes
- * what it saw as JSON: cycles, restarts, and its worst lateness on the
- * CLOCK_MONOTONIC clock (which no step moves).
+ * now, as a careful loop does. A step back only makes one sleep longer:
+ * the schedule goes on, on the clock. It writes what it saw as JSON:
+ * cycles, restarts, the sleeps that lasted 1 s more than a period on
+ * CLOCK_MONOTONIC ('stretched': a step back), its worst lateness on
+ * CLOCK_MONOTONIC (which no step moves; a step back adds to it), and
+ * its worst lateness on its own clock (the step back's sleep included).
  *
  * usage: realtime_loop NAME PERIOD_US CYCLES OUT.json
  */
@@ -28,8 +31,8 @@ static long long now(clockid_t c)
 
 int main(int argc, char **argv)
 {
-	long long period, next, mnext, late, worst = 0;
-	long cycles, c, restarts = 0;
+	long long period, next, mnext, late, worst = 0, late_rt, worst_rt = 0, before;
+	long cycles, c, restarts = 0, stretched = 0;
 	struct timespec ts;
 	FILE *f;
 
@@ -43,15 +46,26 @@ int main(int argc, char **argv)
 	for (c = 0; c < cycles; c++) {
 		ts.tv_sec = next / NS;
 		ts.tv_nsec = next % NS;
+		before = now(CLOCK_MONOTONIC);
 		clock_nanosleep(CLOCK_REALTIME, TIMER_ABSTIME, &ts, NULL);
 		late = now(CLOCK_MONOTONIC) - mnext;
-		if (now(CLOCK_REALTIME) - next > 2 * NS) {
+		late_rt = now(CLOCK_REALTIME) - next;
+		if (now(CLOCK_MONOTONIC) - before > period + NS) {
+			/* stepped back: the sleep lasted the step more; on the clock, on time */
+			stretched++;
+			mnext = now(CLOCK_MONOTONIC) - late_rt;
+			late = late_rt;
+		}
+		if (late_rt > 2 * NS) {
 			/* stepped forward: start again from now */
 			next = now(CLOCK_REALTIME);
 			mnext = now(CLOCK_MONOTONIC);
 			restarts++;
-		} else if (late > worst) {
-			worst = late;
+		} else {
+			if (late > worst)
+				worst = late;
+			if (late_rt > worst_rt)
+				worst_rt = late_rt;
 		}
 		next += period;
 		mnext += period;
@@ -59,7 +73,8 @@ int main(int argc, char **argv)
 	f = fopen(argv[4], "w");
 	if (!f)
 		return 1;
-	fprintf(f, "{\"cycles\": %ld, \"restarts\": %ld, \"worst_late_ns\": %lld}\n", cycles,
-		restarts, worst);
+	fprintf(f, "{\"cycles\": %ld, \"restarts\": %ld, \"stretched\": %ld, "
+		"\"worst_late_ns\": %lld, \"worst_late_rt_ns\": %lld}\n", cycles, restarts,
+		stretched, worst, worst_rt);
 	return fclose(f) ? 1 : 0;
 }

@@ -180,6 +180,17 @@ static void wake_up(struct fx *f, int k)
 	leave(f, rel(k) + LAT + 1 * US);
 }
 
+/* wake_up_rest - wake_up() after the switch-out, the clock's offset unchanged */
+static void wake_up_rest(struct fx *f, int k, __u64 r, __s64 off)
+{
+	cycle_wakeup(&f->t, r + 2 * US);
+	assert_int_equal(sw_in(f, r + LAT), 0);
+	settle(f);
+	cycle_clock_at_exit(&f->t.cs, off);
+	leave(f, r + LAT + 1 * US);
+	(void)k;
+}
+
 /* steady absolute sleeps: period, exec, cpu and latency are exact */
 static void test_cycle_steady_abs_sleep(void **state)
 {
@@ -950,6 +961,144 @@ static void test_cycle_interrupted_sleep_resumes(void **state)
 	assert_int_equal(f->t.misses, 0);
 }
 
+/* cycle_clock_moved: where a clock's new offset puts an absolute release */
+static void test_cycle_clock_moved(void **state)
+{
+	const __s64 off = 1700000000LL * 1000000000LL;	/* CLOCK_REALTIME - MONOTONIC */
+
+	assert_int_equal(cycle_clock_moved(T0, off, off, MS), T0);
+	/* a step back of 1 s: a second more of sleep */
+	assert_int_equal(cycle_clock_moved(T0, off, off - 1000 * MS, MS), T0 + 1000 * MS);
+	/* a slew, or the offset read again each interval: followed */
+	assert_int_equal(cycle_clock_moved(T0, off, off + 100 * US, MS), T0 - 100 * US);
+	assert_int_equal(cycle_clock_moved(T0, off, off + CYC_SLEW_SLACK, MS),
+			 T0 - CYC_SLEW_SLACK);
+	/* a 10 s period may slew 1/1024 of it more */
+	assert_int_equal(cycle_clock_moved(T0, off, off + 5 * MS, 10000 * MS), T0 - 5 * MS);
+	/* a step forward: released by the step, no release to judge */
+	assert_int_equal(cycle_clock_moved(T0, off, off + CYC_SLEW_SLACK + (MS >> 10) + 1, MS), 0);
+	assert_int_equal(cycle_clock_moved(T0, off, off + 5000 * MS, MS), 0);
+	/* before the clock's start, or none requested */
+	assert_int_equal(cycle_clock_moved(MS / 2, off, off + MS - 1, MS), 0);
+	assert_int_equal(cycle_clock_moved(0, off, off - MS, MS), 0);
+	(void)state;
+}
+
+/* enter_on_clock - enter(), the release converted from a clock with offset 'off' */
+static __u32 enter_on_clock(struct fx *f, __u64 now, __u64 expected, __s64 off)
+{
+	__u32 ev = enter(f, now, expected);
+
+	cycle_sleep_clock(&f->t.cs, 1, 0, off);
+	return ev;
+}
+
+/* leave_on_clock - leave(), that clock's offset now 'off_now' */
+static void leave_on_clock(struct fx *f, __u64 now, __s64 off_now)
+{
+	settle(f);
+	cycle_clock_at_exit(&f->t.cs, off_now);
+	leave(f, now);
+}
+
+/*
+ * CLOCK_REALTIME stepped back 1 s while the thread sleeps to a realtime
+ * release: it sleeps a second more, as the kernel's timer follows the
+ * clock. That second is no latency, and the next release, requested a
+ * period later on the clock, is no new period (issue 16).
+ */
+static void test_cycle_clock_step_back_in_sleep(void **state)
+{
+	struct fx *f = *state;
+	const __s64 off = 50000 * MS, back = 1000 * MS;
+	__u64 now = rel(0) + 300 * US, r;
+	int k;
+
+	for (k = 1; k <= 4; k++) {
+		enter_on_clock(f, now, rel(k), off);
+		assert_int_equal(sw_out(f, now + 1 * US, 1), 0);
+		if (k < 4) {
+			wake_up_rest(f, k, rel(k), off);
+			now = rel(k) + LAT + EXEC;
+			continue;
+		}
+		/* release 4: the clock steps back during the sleep */
+		r = rel(4) + back;
+		cycle_wakeup(&f->t, r + 2 * US);
+		assert_int_equal(sw_in(f, r + LAT), 0);
+		leave_on_clock(f, r + LAT + 1 * US, off - back);
+	}
+	/* the next release, on the clock a period later: rel(5) + 1 s in monotonic */
+	assert_int_equal(enter_on_clock(f, r + LAT + EXEC, rel(5) + back, off - back),
+			 CYC_EV_CLOSED);
+	assert_int_equal(f->out.start, r + LAT);
+	assert_int_equal(f->out.latency, LAT);
+	assert_int_equal(f->out.exec, EXEC);
+	assert_false(f->out.flags & (RTSUP_CF_MISS | RTSUP_CF_OVERRUN));
+	assert_int_equal(f->t.cs.nominal, MS);
+	assert_int_equal(f->t.m[RTSUP_M_LATENCY].max, LAT);
+	assert_int_equal(f->t.misses, 0);
+	assert_int_equal(f->t.overruns, 0);
+}
+
+/*
+ * CLOCK_REALTIME stepped forward 5 s while the thread sleeps: the step
+ * releases it early in monotonic time, at a moment no hook saw. That
+ * release has no latency (not the 5 s of the step); the loop then starts
+ * its schedule again from its clock's new time.
+ */
+static void test_cycle_clock_step_forward_in_sleep(void **state)
+{
+	struct fx *f = *state;
+	const __s64 off = 50000 * MS, fwd = 5000 * MS;
+	__u64 now = rel(0) + 300 * US, step = rel(4) - 600 * US;
+	int k;
+
+	for (k = 1; k <= 3; k++) {
+		enter_on_clock(f, now, rel(k), off);
+		assert_int_equal(sw_out(f, now + 1 * US, 1), 0);
+		wake_up_rest(f, k, rel(k), off);
+		now = rel(k) + LAT + EXEC;
+	}
+	enter_on_clock(f, now, rel(4), off);
+	assert_int_equal(sw_out(f, now + 1 * US, 1), 0);
+	/* as the kernel side: a sleep with a requested release reads no wakeup */
+	assert_false(cycle_wakeup_read(&f->t));
+	assert_int_equal(sw_in(f, step + LAT), 0);
+	leave_on_clock(f, step + LAT + 1 * US, off + fwd);
+	/* the loop sees its clock 5 s on and sleeps a period from now */
+	assert_int_equal(enter_on_clock(f, step + LAT + EXEC, step + LAT + EXEC + MS, off + fwd),
+			 CYC_EV_CLOSED);
+	assert_int_equal(f->out.start, step + LAT);
+	assert_false(f->out.flags & RTSUP_CF_HAS_LATENCY);
+	assert_false(f->out.flags & RTSUP_CF_MISS);
+	assert_int_equal(f->t.m[RTSUP_M_LATENCY].max, LAT);
+	assert_int_equal(f->t.misses, 0);
+}
+
+/*
+ * the offset userspace writes moves a little each interval: a wait given
+ * again after a signal, converted with the new offset, is still the same
+ */
+static void test_cycle_interrupted_sleep_resumes_across_offsets(void **state)
+{
+	struct fx *f = *state;
+	__u64 now = steady(f, rel(0), 1, 3), sig = rel(4) - 400 * US;
+
+	assert_int_equal(enter(f, now, rel(4)), CYC_EV_CLOSED);
+	interrupted(f, sig);
+	assert_int_equal(enter(f, sig + 30 * US, rel(4) + 150), 0);
+	assert_int_equal(f->t.cycles, 3);
+	wake_up(f, 4);
+	assert_int_equal(enter(f, rel(4) + LAT + EXEC, rel(5)), CYC_EV_CLOSED);
+	assert_int_equal(f->t.cycles, 4);
+	assert_int_equal(f->out.start, rel(4) + LAT);
+	/* a release a period away is a new cycle, never the same wait */
+	interrupted(f, rel(5) - 400 * US);
+	assert_int_equal(enter(f, rel(5) - 300 * US, rel(5) + CYC_ABS_SAME + 1), CYC_EV_CLOSED);
+	assert_int_equal(f->t.cycles, 5);
+}
+
 /*
  * SIGSTOP/SIGCONT, ptrace: the stopped thread is no block, and the
  * restarted sleep (restart_syscall: the same release) no overrun
@@ -1269,6 +1418,10 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		T(test_cycle_steady_abs_sleep),
+		T(test_cycle_clock_step_back_in_sleep),
+		T(test_cycle_clock_step_forward_in_sleep),
+		T(test_cycle_interrupted_sleep_resumes_across_offsets),
+		cmocka_unit_test(test_cycle_clock_moved),
 		T(test_cycle_steady_lifetime_minmax),
 		T(test_cycle_relative_sleep),
 		T(test_cycle_preempt_in_cycle),
