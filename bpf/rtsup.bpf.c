@@ -807,14 +807,17 @@ static __always_inline __s64 clock_off_of(__u64 clk)
 
 /*
  * sleep_release - requested release of a sleep syscall, 0 if unknown; an
- * absolute one's clock and the offset it was converted with in *clk, *off
+ * absolute one's clock and the offset it was converted with go to t's
+ * cycle state (cycle_sleep_clock), here: kept out of on_sys_enter's
+ * locals, which the verifier would carry through every path after
  */
-static __always_inline __u64 sleep_release(struct pt_regs *regs, __u32 cls, __u64 now,
-					   int *absolute, __u32 *clk_id, __s64 *off, const int btf)
+static __always_inline __u64 sleep_release(struct rtsup_thread *t, struct pt_regs *regs,
+					   __u32 cls, __u64 now, int *absolute, const int btf)
 {
 	struct __kernel_timespec ts;
 	void *req;
 	__u64 clk = 0, flags = 0, ns;
+	__s64 off;
 
 	if (cls & RTSUP_SC_ABSSLEEP) {
 		clk = SYSARG(btf, regs, 1);
@@ -831,9 +834,9 @@ static __always_inline __u64 sleep_release(struct pt_regs *regs, __u32 cls, __u6
 	if (!(flags & TIMER_ABSTIME))
 		return now + ns;
 	*absolute = 1;
-	*clk_id = clk & 15;
-	*off = clock_off_of(clk);
-	return ns - *off;
+	off = clock_off_of(clk);
+	cycle_sleep_clock(&t->cs, 1, clk & 15, off);
+	return ns - off;
 }
 
 /*
@@ -919,9 +922,7 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 	struct cycle_cfg cf;
 	__u32 nr, *cls, ev;
 	__u64 now, expected;
-	int unsafe, delim, absolute = 0, resumed = 0;
-	__u32 clk = 0;
-	__s64 off = 0;
+	int unsafe, delim, absolute = 0;
 
 	if (!t || t->exited)
 		return 0;
@@ -945,7 +946,9 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 	else
 		delim = *cls & RTSUP_SC_DELIM;
 	if (delim) {
-		expected = sleep_release(regs, *cls, now, &absolute, &clk, &off, btf);
+		/* the kernel's restart (below) keeps the interrupted sleep's clock */
+		cycle_sleep_clock(&t->cs, 0, 0, 0);
+		expected = sleep_release(t, regs, *cls, now, &absolute, btf);
 		/* a relative sleep inside an absolute loop is no boundary */
 		if (cycle_rel_sleep_in_loop(t, *cls, absolute))
 			delim = 0;
@@ -956,7 +959,6 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 	} else if ((*cls & RTSUP_SC_RESTART) && (t->cs.flags & RTSUP_CS_INTR)) {
 		/* the kernel resumes the interrupted sleep with its own arguments */
 		delim = 1;
-		resumed = 1;
 		absolute = t->cs.abs_expected != 0;
 		expected = absolute ? t->cs.abs_expected : t->cs.expected;
 	}
@@ -964,9 +966,6 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 		cf = cfg(tc);
 		ev = cycle_delim_enter(t, &cf, now, expected, absolute,
 				       TREAD(btf, task, min_flt), TREAD(btf, task, maj_flt), &c);
-		/* the kernel's restart keeps the interrupted sleep's clock */
-		if (!resumed)
-			cycle_sleep_clock(&t->cs, absolute, clk, off);
 		why_delim(&t->why, ev, ev & CYC_EV_CLOSED ? c.cpu : 0,
 			  ev & CYC_EV_CLOSED ? c.nominal : 0, now, expected);
 		note_wake(t);
