@@ -819,6 +819,7 @@ static __always_inline __u64 sleep_release(struct rtsup_thread *t, struct pt_reg
 	__u64 clk = 0, flags = 0, ns;
 	__s64 off;
 
+	cycle_sleep_clock(&t->cs, 0, 0, 0);
 	if (cls & RTSUP_SC_ABSSLEEP) {
 		clk = SYSARG(btf, regs, 1);
 		flags = SYSARG(btf, regs, 2);
@@ -947,7 +948,6 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 		delim = *cls & RTSUP_SC_DELIM;
 	if (delim) {
 		/* the kernel's restart (below) keeps the interrupted sleep's clock */
-		cycle_sleep_clock(&t->cs, 0, 0, 0);
 		expected = sleep_release(t, regs, *cls, now, &absolute, btf);
 		/* a relative sleep inside an absolute loop is no boundary */
 		if (cycle_rel_sleep_in_loop(t, *cls, absolute))
