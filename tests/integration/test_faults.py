@@ -644,6 +644,29 @@ def stepped_by(err):
     return float(said[0].split("stepped by ")[1].split(" s;")[0])
 
 
+def realtime_loop_across_step(tmp_path, name, step_s):
+    """realtime_loop for 3 s under rtsup-trace, CLOCK_REALTIME stepped by
+    step_s 1.5 s in: (its n cycles, what it saw, the tool's totals for it,
+    the tool's stderr)."""
+    out = tmp_path / "rt.json"
+    n = 3000000 // PERIOD_US  # 3 s of cycles
+    tr = Trace(["--comm", name, "-i", "500ms", "--no-overhead"])
+    prog = subprocess.Popen([str(PROGS / "realtime_loop"), name, str(PERIOD_US), str(n),
+                             str(out)])
+    try:
+        time.sleep(1.5)
+        time.clock_settime(time.CLOCK_REALTIME, time.time() + step_s)
+        assert prog.wait(timeout=120) == 0
+        time.sleep(0.5)
+        _, summary, err = tr.stop()
+    finally:
+        if prog.poll() is None:
+            prog.kill()
+    t = [x for x in summary["threads"] if x["comm"] == name]
+    assert len(t) == 1, summary["threads"]
+    return n, json.loads(out.read_text()), t[0]["total"], err
+
+
 @guest_only
 def test_in_guest_clock_step_forward(tmp_path):
     """The clock steps forward 5 s (NTP after a boot in 1970) under a loop
@@ -651,26 +674,8 @@ def test_in_guest_clock_step_forward(tmp_path):
     the step released the sleep in progress, at a time no hook saw: no
     latency, not 5 s of it; the cycles stay exact, the run goes on, and the
     step is said once on stderr."""
-    out = tmp_path / "rt.json"
-    period_us = PERIOD_US
-    n = 3000000 // period_us  # 3 s of cycles
-    tr = Trace(["--comm", "rtloop", "-i", "500ms", "--no-overhead"])
-    prog = subprocess.Popen([str(PROGS / "realtime_loop"), "rtloop", str(period_us), str(n),
-                             str(out)])
-    try:
-        time.sleep(1.5)
-        time.clock_settime(time.CLOCK_REALTIME, time.time() + 5)
-        assert prog.wait(timeout=120) == 0
-        time.sleep(0.5)
-        intervals, summary, err = tr.stop()
-    finally:
-        if prog.poll() is None:
-            prog.kill()
-    truth = json.loads(out.read_text())
+    n, truth, tot, err = realtime_loop_across_step(tmp_path, "rtloop", +5)
     assert truth["restarts"] == 1, truth  # it saw the step once
-    t = [x for x in summary["threads"] if x["comm"] == "rtloop"]
-    assert len(t) == 1, summary["threads"]
-    tot = t[0]["total"]
     # n sleeps bound n - 1 whole cycles; the restart is one of them
     assert tot["cycles"] == n - 1, (tot["cycles"], n)
     # the tool stamps the switch-in, the loop reads its clock after it: its
@@ -690,25 +695,8 @@ def test_in_guest_clock_step_backward(tmp_path):
     reports no 2 s latency (before: the kernel side judged the release with
     the offset of the sleep's entry); the loop keeps its schedule, the
     cycles stay exact, the step is said once on stderr."""
-    out = tmp_path / "rt.json"
-    n = 3000000 // PERIOD_US  # 3 s of cycles, 2 s more in one of them
-    tr = Trace(["--comm", "rtback", "-i", "500ms", "--no-overhead"])
-    prog = subprocess.Popen([str(PROGS / "realtime_loop"), "rtback", str(PERIOD_US), str(n),
-                             str(out)])
-    try:
-        time.sleep(1.5)
-        time.clock_settime(time.CLOCK_REALTIME, time.time() - 2)
-        assert prog.wait(timeout=120) == 0
-        time.sleep(0.5)
-        intervals, summary, err = tr.stop()
-    finally:
-        if prog.poll() is None:
-            prog.kill()
-    truth = json.loads(out.read_text())
+    n, truth, tot, err = realtime_loop_across_step(tmp_path, "rtback", -2)
     assert truth["restarts"] == 0 and truth["stretched"] == 1, truth
-    t = [x for x in summary["threads"] if x["comm"] == "rtback"]
-    assert len(t) == 1, summary["threads"]
-    tot = t[0]["total"]
     assert tot["cycles"] == n - 1, (tot["cycles"], n)
     # the loop's lateness on its own clock, the step's sleep included, bounds
     # the tool's; 1 ms for a TCG guest's clock reads (as above). Without the
