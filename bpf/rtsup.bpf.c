@@ -1001,6 +1001,7 @@ static __always_inline int on_sys_exit(long ret, const int btf)
 	__u32 tid = (__u32)bpf_get_current_pid_tgid();
 	struct rtsup_thread *t = lookup_thread(tid);
 	struct task_struct *task;
+	int intr;
 
 	if (!t)
 		return 0;
@@ -1015,9 +1016,9 @@ static __always_inline int on_sys_exit(long ret, const int btf)
 	if (t->cs.clk)
 		cycle_clock_at_exit(&t->cs, clock_off_of(t->cs.clk - 1));
 	/* a delimiter that slept was released at its switch-in: no clock */
-	cycle_delim_exit(t, cycle_delim_exit_timed(t) ? bpf_ktime_get_ns() : 0,
-			 cycle_ret_interrupted(ret), TREAD(btf, task, min_flt),
-			 TREAD(btf, task, maj_flt));
+	intr = cycle_ret_interrupted(ret);
+	cycle_delim_exit(t, cycle_delim_exit_timed(t, intr) ? bpf_ktime_get_ns() : 0, intr,
+			 TREAD(btf, task, min_flt), TREAD(btf, task, maj_flt));
 	note_wake(t);
 	return 0;
 }

@@ -485,21 +485,39 @@ enum cycle_exit_path {
 	CYC_EXIT_NONE,		/* no delimiter entered: nothing released */
 	CYC_EXIT_SWITCHED_IN,	/* released at cycle_delim_switched_in() */
 	CYC_EXIT_NO_SLEEP,	/* not switched in since entry: released now */
+	CYC_EXIT_WOKEN_EARLY,	/* switched in before its release: released now */
 };
-#define CYC_EXIT_TIMED	(1u << CYC_EXIT_NO_SLEEP)
+#define CYC_EXIT_TIMED	(1u << CYC_EXIT_NO_SLEEP | 1u << CYC_EXIT_WOKEN_EARLY)
+
+/*
+ * cycle_woken_early - a sleep that returns done ('interrupted' clear) but
+ * whose first switch-in came before its requested release: a signal woke
+ * it, and the timer expired before the kernel saw the signal, so the
+ * sleep ends with 0 (do_nanosleep: "!t->task"). That switch-in is no
+ * release: a sleep is never released before its time.
+ */
+RTSUP_INLINE int cycle_woken_early(const struct rtsup_cycle_state *cs, int interrupted)
+{
+	__u64 in = cycle_delim_switched_in(cs);
+
+	return !interrupted && in && cs->expected && in < cs->expected;
+}
 
 /* cycle_delim_exit_path - which path cycle_delim_exit takes */
-RTSUP_INLINE enum cycle_exit_path cycle_delim_exit_path(const struct rtsup_cycle_state *cs)
+RTSUP_INLINE enum cycle_exit_path cycle_delim_exit_path(const struct rtsup_cycle_state *cs,
+							int interrupted)
 {
 	if (!cs->in_delim)
 		return CYC_EXIT_NONE;
+	if (cycle_woken_early(cs, interrupted))
+		return CYC_EXIT_WOKEN_EARLY;
 	return cycle_delim_switched_in(cs) ? CYC_EXIT_SWITCHED_IN : CYC_EXIT_NO_SLEEP;
 }
 
 /* cycle_delim_exit_timed - will cycle_delim_exit read 'now'? */
-RTSUP_INLINE int cycle_delim_exit_timed(const struct rtsup_thread *t)
+RTSUP_INLINE int cycle_delim_exit_timed(const struct rtsup_thread *t, int interrupted)
 {
-	return CYC_PATH_TIMED(CYC_EXIT_TIMED, cycle_delim_exit_path(&t->cs));
+	return CYC_PATH_TIMED(CYC_EXIT_TIMED, cycle_delim_exit_path(&t->cs, interrupted));
 }
 
 /*
@@ -511,7 +529,7 @@ RTSUP_INLINE void cycle_delim_exit(struct rtsup_thread *t, __u64 now, int interr
 				   __u64 minflt, __u64 majflt)
 {
 	struct rtsup_cycle_state *cs = &t->cs;
-	enum cycle_exit_path path = cycle_delim_exit_path(cs);
+	enum cycle_exit_path path = cycle_delim_exit_path(cs, interrupted);
 	__u64 start = path == CYC_EXIT_SWITCHED_IN ? cs->in_ts : now;
 
 	if (path == CYC_EXIT_NONE)

@@ -85,7 +85,7 @@ static int untimed_out, untimed_exit;	/* how often the clock read was skipped */
 static void leave(struct fx *f, __u64 now)
 {
 	settle(f);
-	if (!cycle_delim_exit_timed(&f->t)) {
+	if (!cycle_delim_exit_timed(&f->t, 0)) {
 		now = UNTIMED;
 		untimed_exit++;
 	}
@@ -423,7 +423,11 @@ static void test_cycle_miss_boundary(void **state)
 	assert_int_equal(f->t.misses, 1);
 }
 
-/* switched in before the requested release: latency 0, not negative */
+/*
+ * returned done before the requested release (a release converted from
+ * another clock a few us off): latency 0, not negative; the cycle starts
+ * at the return, not at the switch-in before it
+ */
 static void test_cycle_early_release(void **state)
 {
 	struct fx *f = *state;
@@ -434,7 +438,7 @@ static void test_cycle_early_release(void **state)
 	assert_int_equal(enter(f, rel(2) + EXEC, rel(3)), CYC_EV_CLOSED);
 	assert_true(f->out.flags & RTSUP_CF_HAS_LATENCY);
 	assert_int_equal(f->out.latency, 0);
-	assert_int_equal(f->out.exec, EXEC + 10 * US);
+	assert_int_equal(f->out.exec, EXEC + 9 * US);
 }
 
 /* a delimiter that does not sleep: the cycle starts at its exit */
@@ -900,12 +904,12 @@ static void test_cycle_steady_loop_reads_clock_once_per_switch_in(void **state)
 	assert_int_equal(f->out.period, MS);
 	/* going to sleep in the delimiter: no clock; a return without sleep: clock */
 	assert_false(cycle_switch_out_timed(&f->t, 1));
-	assert_true(cycle_delim_exit_timed(&f->t));
+	assert_true(cycle_delim_exit_timed(&f->t, 0));
 	leave(f, now + 1 * US);
 	/* inside a cycle, a preemption and a block both read the clock */
 	assert_true(cycle_switch_out_timed(&f->t, 0));
 	assert_true(cycle_switch_out_timed(&f->t, 1));
-	assert_false(cycle_delim_exit_timed(&f->t));
+	assert_false(cycle_delim_exit_timed(&f->t, 0));
 }
 
 /*
@@ -918,7 +922,7 @@ static void interrupted(struct fx *f, __u64 sig)
 	cycle_wakeup(&f->t, sig);
 	assert_int_equal(sw_in(f, sig + 3 * US), 0);
 	settle(f);
-	cycle_delim_exit(&f->t, cycle_delim_exit_timed(&f->t) ? sig + 4 * US : UNTIMED, 1,
+	cycle_delim_exit(&f->t, cycle_delim_exit_timed(&f->t, 1) ? sig + 4 * US : UNTIMED, 1,
 			 f->minflt, f->majflt);
 }
 
@@ -959,6 +963,38 @@ static void test_cycle_interrupted_sleep_resumes(void **state)
 	assert_int_equal(f->t.m[RTSUP_M_PERIOD].min, MS);
 	assert_int_equal(f->t.m[RTSUP_M_LATENCY].min, LAT);
 	assert_int_equal(f->t.misses, 0);
+}
+
+/*
+ * a signal wakes the sleep just before its release, and the timer expires
+ * before the kernel looks at the signal: the sleep returns 0, switched in
+ * before its time. The release is the return, not that switch-in: the
+ * latency is the return's lateness (it read 0, the cycle began early).
+ */
+static void test_cycle_woken_early_by_a_signal(void **state)
+{
+	struct fx *f = *state;
+	__u64 now = steady(f, rel(0), 1, 3), in = rel(4) - 3 * US, back = rel(4) + 9 * US;
+
+	assert_int_equal(enter(f, now, rel(4)), CYC_EV_CLOSED);
+	assert_int_equal(sw_out(f, now + 1 * US, 1), 0);
+	cycle_wakeup(&f->t, in - 1 * US);
+	assert_int_equal(sw_in(f, in), 0);
+	settle(f);
+	/* an interrupted return still takes the switch-in, tentatively */
+	assert_int_equal(cycle_delim_exit_path(&f->t.cs, 1), CYC_EXIT_SWITCHED_IN);
+	assert_int_equal(cycle_delim_exit_path(&f->t.cs, 0), CYC_EXIT_WOKEN_EARLY);
+	leave(f, back);
+	assert_int_equal(enter(f, back + EXEC, rel(5)), CYC_EV_CLOSED);
+	assert_int_equal(f->t.cycles, 4);
+	assert_int_equal(f->out.start, back);
+	assert_int_equal(f->out.exec, EXEC);
+	assert_true(f->out.flags & RTSUP_CF_HAS_LATENCY);
+	assert_int_equal(f->out.latency, back - rel(4));
+	/* a switch-in after its release is the release */
+	wake_up(f, 5);
+	assert_int_equal(enter(f, rel(5) + LAT + EXEC, rel(6)), CYC_EV_CLOSED);
+	assert_int_equal(f->out.latency, LAT);
 }
 
 /* cycle_clock_moved: where a clock's new offset puts an absolute release */
@@ -1349,6 +1385,7 @@ static void set_bits(struct rtsup_thread *t, unsigned int bits)
 	cs->start = bits & 8 ? 4 * MS : 0;
 	cs->mode = bits & 16 ? RTSUP_MODE_DELIM : RTSUP_MODE_ACT;
 	cs->flags = bits & 32 ? RTSUP_CS_INTR : 0;
+	cs->expected = bits & 64 ? 7 * MS : 0;	/* after in_ts: a switch-in before it */
 	cs->last_start = 3 * MS;
 	cs->minflt0 = 0;
 	cs->majflt0 = 0;
@@ -1367,7 +1404,7 @@ static void test_cycle_timed_masks_exact(void **state)
 	unsigned int bits;
 	int vol;
 
-	for (bits = 0; bits < 64; bits++) {
+	for (bits = 0; bits < 128; bits++) {
 		for (vol = 0; vol < 2; vol++) {
 			struct rtsup_thread a = f->t, b;
 			struct rtsup_cycle oa = { 0 }, ob = { 0 };
@@ -1396,8 +1433,8 @@ static void test_cycle_timed_masks_exact(void **state)
 
 			set_bits(&a, bits);
 			b = a;
-			path = cycle_delim_exit_path(&a.cs);
-			assert_int_equal(cycle_delim_exit_timed(&a),
+			path = cycle_delim_exit_path(&a.cs, bits & 32);
+			assert_int_equal(cycle_delim_exit_timed(&a, bits & 32),
 					 CYC_PATH_TIMED(CYC_EXIT_TIMED, path));
 			cycle_delim_exit(&a, 10 * MS, bits & 32, 0, 0);
 			cycle_delim_exit(&b, 20 * MS, bits & 32, 0, 0);
@@ -1408,7 +1445,7 @@ static void test_cycle_timed_masks_exact(void **state)
 	}
 	assert_int_equal(out_taken, (1u << (CYC_OUT_ACT_END + 1)) - 1);
 	assert_int_equal(out_used, CYC_OUT_TIMED);
-	assert_int_equal(exit_taken, (1u << (CYC_EXIT_NO_SLEEP + 1)) - 1);
+	assert_int_equal(exit_taken, (1u << (CYC_EXIT_WOKEN_EARLY + 1)) - 1);
 	assert_int_equal(exit_used, CYC_EXIT_TIMED);
 }
 
@@ -1449,6 +1486,7 @@ int main(void)
 		T(test_cycle_preempt_in_delim_after_release),
 		T(test_cycle_steady_loop_reads_clock_once_per_switch_in),
 		T(test_cycle_interrupted_sleep_resumes),
+		T(test_cycle_woken_early_by_a_signal),
 		T(test_cycle_stopped_sleep_restarts),
 		T(test_cycle_interrupted_sleep_abandoned),
 		T(test_cycle_interrupted_relative_sleep),
