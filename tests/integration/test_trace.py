@@ -677,7 +677,9 @@ def sleep_until(t):  # CLOCK_MONOTONIC (time.monotonic's clock), TIMER_ABSTIME
 '''
 
 LOOP_PY = SLEEP_UNTIL_PY + r'''
-import ctypes, os, sys, time
+import ctypes, os, signal, sys, time
+# a test may end the loop early: SIGTERM is a clean exit (status 0)
+signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))
 n, rest = int(sys.argv[1]), sys.argv[2:]
 what, arg = rest[:2] if rest[:1] in (["--rename"], ["--move"]) else (None, None)
 t = time.monotonic()
@@ -774,15 +776,18 @@ def test_reused_tid_is_a_new_thread(tmp_path):
     one's entry (issue 12, item 6)."""
     prog = tmp_path / "loop.py"
     prog.write_text(LOOP_PY)
-    # the first runs 6 s: the tracer must be up before it ends (a loaded
-    # machine has taken over 3 s to load and attach)
-    n1, n2 = 3000, 600
+    # the first would loop 60 s; it ends (SIGTERM, a clean exit) once the
+    # tracer is up, however long that took (an emulated guest on a loaded
+    # host took more than the 6 s it once had)
+    n1, n2 = 30000, 600
     first = subprocess.Popen(["/usr/bin/python3", str(prog), str(n1)])
     # one long interval: the dead thread's entry is not freed before the reuse
     tr = Trace(["--pid", str(first.pid), "-i", "60s"])
     second = None
     try:
         assert first.poll() is None, "the first program ended before the tracer started"
+        time.sleep(0.5)  # a few of its cycles seen by the tracer
+        first.terminate()
         assert first.wait(timeout=60) == 0
         second = spawn_with_pid(first.pid, ["/usr/bin/python3", str(prog), str(n2)])
         if second is None:
