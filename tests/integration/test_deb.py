@@ -37,6 +37,8 @@ def control(deb, field):
     return r.stdout.strip()
 
 
+# the module's make deb (1200 s) counts here: pytest.ini's 600 s would cut it first
+@pytest.mark.timeout(1300)
 def test_packages_hold_what_they_should(debs, tmp_path):
     main = contents(debs["rtsup"])
     for f in ("/usr/bin/rtsup-trace", "/usr/share/man/man8/rtsup-trace.8.gz",
@@ -63,6 +65,8 @@ def test_packages_hold_what_they_should(debs, tmp_path):
     assert "libddsc0debian" in control(debs["rtsup"], "Suggests")
 
 
+# a guest set up (1800 s) and run (900 s): pytest.ini's 600 s would cut it first
+@pytest.mark.timeout(2800)
 def test_apt_install_starts_service_remove_purge_in_vm(debs):
     vmtest = ROOT / "scripts" / "vm-test"
     kernels = subprocess.run([str(vmtest), "kernels"], capture_output=True, text=True,
