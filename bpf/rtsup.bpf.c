@@ -1015,7 +1015,7 @@ static __always_inline int on_sys_exit(long ret, const int btf)
 	/* a step of the sleep's clock (date -s, NTP) moved its release */
 	if (t->cs.clk)
 		cycle_clock_at_exit(&t->cs, clock_off_of(t->cs.clk - 1));
-	/* a delimiter that slept was released at its switch-in: no clock */
+	/* a delimiter that slept was released at its switch-in (no clock), unless woken before its release */
 	intr = cycle_ret_interrupted(ret);
 	cycle_delim_exit(t, cycle_delim_exit_timed(t, intr) ? bpf_ktime_get_ns() : 0, intr,
 			 TREAD(btf, task, min_flt), TREAD(btf, task, maj_flt));
