@@ -28,9 +28,10 @@ VM_CTL = Path("/run/vm-test")
 IN_VM = (VM_CTL / "started").exists()
 
 
-def run_why(mode, seconds=3, args=(), during=None, scale=1):
+def run_why(mode, seconds=3, args=(), during=None, scale=1, summary_out=None):
     """Trace why_late MODE; return (its truth, why-rt's summary, the intervals).
-    during() runs while the program does; scale stretches the mode's times."""
+    during() runs while the program does; scale stretches the mode's times;
+    the whole summary is appended to summary_out when given."""
     tr = Trace(["--comm", "why_late"] + list(args))
     # rtsup-trace's own reads of its maps hold a CPU for up to ~1 ms on a
     # kernel without full preemption: a cost it names as its own (the
@@ -53,6 +54,8 @@ def run_why(mode, seconds=3, args=(), during=None, scale=1):
         if tr.proc.poll() is None:
             tr.proc.kill()
     truth = json.loads(out)
+    if summary_out is not None:
+        summary_out.append(summary)
     rt = [t for t in summary["threads"] if t["tid"] == truth["rt_tid"]]
     assert len(rt) == 1, summary["threads"]
     return truth, rt[0], intervals
@@ -216,9 +219,12 @@ def test_noise_injector_is_named(bpf):
 
 @host_only
 def test_replay_gives_the_same_causes(bpf, tmp_path):
-    """--record keeps every miss's cause: the replay groups them the same."""
+    """--record keeps every miss's cause: the replay groups them the same,
+    and its checks name each interval's own top cause as the live run's did
+    (the replay judged an interval with the one before's causes)."""
     rec = tmp_path / "why.rec"
-    truth, rt, _ = run_why("hog", args=["--record", str(rec)])
+    live = []
+    truth, rt, _ = run_why("hog", args=["--record", str(rec), "-i", "500ms"], summary_out=live)
     r = subprocess.run([str(BUILD / "rtsup-trace"), "replay", str(rec), "-j"],
                        capture_output=True, text=True, timeout=60)
     assert r.returncode == 0, r.stderr
@@ -231,6 +237,10 @@ def test_replay_gives_the_same_causes(bpf, tmp_path):
     assert groups(rt) and strip == [
         {k: g[k] for k in ("kind", "count", "total_ns", "max_ns", "inversion")} |
         {"who": g["who"] and (g["who"]["tid"], g["who"]["comm"])} for g in groups(again[0])]
+    # the hog makes misses in most intervals, their counts differ from one to the next
+    said = [v["what"] for v in live[0]["violations"]]
+    assert any("caused by" in w for w in said), said
+    assert [v["what"] for v in summary["violations"]] == said
 
 
 # the holds the guest asks its host for: 8 of 100 ms, one every 500 ms

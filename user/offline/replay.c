@@ -197,11 +197,12 @@ static void on_mark(struct replay *r, const struct rec_interval *ri, bool end)
 	/* what the live collector computes per sample: the change since the last mark */
 	for (i = 0; i < c->model.n; i++)
 		model_views(c->model.t[i], &c->model.t[i]->cur, c->model.t[i]->snap, c->bank);
-	supervise_interval(r->s, &c->model, c->bank, &self, ri->mono_ns);
+	/* as collector_sample: the checks name this interval's causes, not the last's */
 	eventlog_finish(&c->events);
 	causes_sort(&c->causes_win);
 	causes_sort(&c->causes_life);
 	causes_to_model(&c->causes_win, &c->causes_life, &c->model);
+	supervise_interval(r->s, &c->model, c->bank, &self, ri->mono_ns);
 	r->s->health.events_not_kept += c->events.dropped;
 	/* like a live run: the last, partial interval, then the summary */
 	progress_end(&r->pg);
