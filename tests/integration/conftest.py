@@ -126,11 +126,19 @@ def bpf():
 
 class Trace:
     """A running rtsup-trace with JSON output. Its stdout and stderr are read
-    while it runs: a full pipe would stall its main loop."""
+    while it runs: a full pipe would stall its main loop. 'out_file' sends
+    stdout to a file instead, for a test that times the main loop while it
+    writes megabytes an interval: a pipe's writer waits on the reader, here
+    a Python thread sharing the CPUs with the load, and the loop's lateness
+    would be pytest's."""
 
-    def __init__(self, args):
-        self.proc = subprocess.Popen([str(TRACE), "-j"] + args, stdout=subprocess.PIPE,
+    def __init__(self, args, out_file=None):
+        self.out_file = out_file
+        sink = open(out_file, "w") if out_file else subprocess.PIPE
+        self.proc = subprocess.Popen([str(TRACE), "-j"] + args, stdout=sink,
                                      stderr=subprocess.PIPE, text=True)
+        if out_file:
+            sink.close()
         # the banner on stderr says the programs are attached
         line = self.proc.stderr.readline()
         if "tracing with" not in line:
@@ -138,9 +146,11 @@ class Trace:
             raise AssertionError("rtsup-trace did not start: " + line + err)
         self.banner = line
         self.out, self.err = [], []
+        pipes = ((self.proc.stderr, self.err),)
+        if not out_file:
+            pipes = ((self.proc.stdout, self.out),) + pipes
         self.readers = [threading.Thread(target=self._drain, args=(f, buf), daemon=True)
-                        for f, buf in ((self.proc.stdout, self.out),
-                                       (self.proc.stderr, self.err))]
+                        for f, buf in pipes]
         for t in self.readers:
             t.start()
 
@@ -157,6 +167,8 @@ class Trace:
         for t in self.readers:
             t.join(timeout=timeout)
         out, err = "".join(self.out), "".join(self.err)
+        if self.out_file:
+            out = open(self.out_file).read()
         objs = [json.loads(x) for x in out.splitlines() if x.strip()]
         intervals = [o for o in objs if o.get("type") == "interval"]
         summary = [o for o in objs if o.get("type") == "summary"]

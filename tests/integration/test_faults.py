@@ -204,8 +204,10 @@ def test_thread_storm(tmp_path):
     out = tmp_path / "storm.json"
     # the storm by its program's name at exec: a --comm process has all its
     # threads followed from their fork
+    # stdout to a file: the storm's intervals are 2-7 MB of JSON each, and a
+    # pipe would time pytest's reader thread, not the loop
     tr = Trace(["-i", "500ms", "--no-overhead", "--comm", prefix + "-0", "--comm",
-                "thread_storm"])
+                "thread_storm"], out_file=tmp_path / "trace.jsonl")
     lg = Loadgen(tmp_path, ["--name", prefix, "-n", "1", "-c", str(STORM_S * 1000000 //
                                                                      PERIOD_US)])
     storm = subprocess.run([str(PROGS / "thread_storm"), "thread_storm", "10000",
@@ -243,8 +245,15 @@ def test_thread_storm(tmp_path):
     # loop's own thread counts that wait (loop_wait_s).
     g = gaps(intervals)
     assert all(g[k] - loop[k][1] < 1.5 for k in range(len(g))), (g, loop)
+    # How late each interval came is the loop's own doing: its slot is always
+    # after the last interval's end (main.c), so an interval is late only by
+    # the loop's busy time since then, its CPU and its run-queue wait. 50 ms
+    # for what schedstat does not count: the poll's timeout rounds up to the
+    # next ms, the timer's slack and its expiry latency (ms-scale spikes on
+    # these machines), and the page-cache writes of the output.
     late = lateness(intervals, 0.5)
-    assert all(0 <= x < 1.0 + loop[k][1] for k, x in enumerate(late)), (late, loop)
+    assert all(0 <= x <= loop[k][0] + loop[k][1] + 0.05 for k, x in enumerate(late)), \
+        (late, loop)
     # the model keeps MODEL_KEEP_DEAD (1024) dead threads, ~9 KiB each
     assert hwm < 200 * 1024, hwm
     # the storm was followed: every thread it made is in the model (the
@@ -686,8 +695,14 @@ def test_in_guest_clock_step_forward(tmp_path):
     assert tot["cycles"] == n - 1, (tot["cycles"], n)
     # the tool stamps the switch-in, the loop reads its clock after it: its
     # lateness is the larger; 1 ms for a TCG guest's clock reads. Without
-    # the early-release rule the step would show as a 5 s latency.
-    assert tot["latency_ns"]["max"] <= truth["worst_late_ns"] + 1000000, (tot, truth)
+    # the early-release rule the step would show as a 5 s latency. Its
+    # lateness on its own clock, not on CLOCK_MONOTONIC: the loop pairs its
+    # deadlines on the two clocks by two reads, at its start and its restart,
+    # and a preemption between them (ms in a TCG guest) hides that much of
+    # every later cycle's monotonic lateness; a step forward adds nothing to
+    # a lateness on the clock once the schedule restarts. (A CI guest: the
+    # tool 11.7 ms, the loop 9.4 ms on CLOCK_MONOTONIC.)
+    assert tot["latency_ns"]["max"] <= truth["worst_late_rt_ns"] + 1000000, (tot, truth)
     assert tot["latency_ns"]["max"] < 1e9
     # said once, with its size: 5 s less the moments between our clock read and the set
     assert 4.5 < stepped_by(err) <= 5.0, err
