@@ -240,7 +240,7 @@ static void self_in(struct self_in *in, const struct collector *c, const struct 
 }
 
 /* take_health - the tool's own health after an interval's verdicts (and actions) */
-static void take_health(struct supervisor *s, const struct collector *c,
+static void take_health(struct supervisor *s, const struct collector *c, const struct loader *l,
 			const struct actions *a)
 {
 	struct health *h = &s->health;
@@ -255,6 +255,7 @@ static void take_health(struct supervisor *s, const struct collector *c,
 	h->events_not_kept += c->events.dropped;
 	h->parse_errors = targets_parse_errors();
 	h->actions_dropped = a->skipped_rate + a->skipped_busy;
+	h->hook_runs_missed = loader_runs_missed(l);
 }
 
 /* sample_can - the CAN maps into the CAN model, on the thread model's interval */
@@ -421,7 +422,7 @@ static int run_live(struct options *o, struct supervisor *s)
 		loop_clock_take(&lc, &self);
 		supervise_interval(s, &c.model, c.bank, &self, now);
 		supervise_can(s, now, (now - last) / 1e9);
-		take_health(s, &c, &act);
+		take_health(s, &c, &l, &act);
 		output_interval(&c, s, (now - start) / 1e9, (now - last) / 1e9);
 		if (s->can)
 			can_model_next(s->can);
@@ -448,7 +449,7 @@ static int run_live(struct options *o, struct supervisor *s)
 	loop_clock_take(&lc, &self);
 	supervise_interval(s, &c.model, c.bank, &self, now);
 	supervise_can(s, now, (now - last) / 1e9);
-	take_health(s, &c, &act);
+	take_health(s, &c, &l, &act);
 	/* the last, partial interval: the intervals add up to the summary */
 	output_interval(&c, s, (now - start) / 1e9, (now - last) / 1e9);
 	output_summary(&c, s, (now - start) / 1e9);

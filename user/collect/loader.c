@@ -324,6 +324,26 @@ long long loader_run_time(const struct loader *l)
 	return sum;
 }
 
+__u64 loader_runs_missed(const struct loader *l)
+{
+	struct bpf_prog_info info;
+	struct bpf_program *p;
+	__u64 sum = 0;
+	__u32 len;
+
+	bpf_object__for_each_program(p, l->floor ? l->floor->obj : l->skel->obj) {
+		int fd = bpf_program__fd(p);
+
+		if (fd < 0)
+			continue;
+		memset(&info, 0, sizeof(info));
+		len = sizeof(info);
+		if (!bpf_obj_get_info_by_fd(fd, &info, &len))
+			sum += info.recursion_misses;
+	}
+	return sum;
+}
+
 int loader_stats(struct loader *l, bool on)
 {
 	if (on && l->stats_fd < 0)

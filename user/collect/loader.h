@@ -31,6 +31,13 @@ void loader_stop(struct loader *l);
  */
 long long loader_run_time(const struct loader *l);
 /*
+ * loader_runs_missed - runs of our programs the kernel skipped because the
+ * same program was already running on that CPU (a wakeup from an interrupt
+ * inside its own hook): each is an event not seen. The kernel counts them
+ * whether or not statistics are on; 0 before 5.12, which does not say.
+ */
+__u64 loader_runs_missed(const struct loader *l);
+/*
  * loader_stats - switch the kernel's BPF run-time statistics on or off
  * (they count while any holder keeps them on); -1 when they cannot be
  * switched on (no CAP_SYS_ADMIN).

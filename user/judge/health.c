@@ -28,6 +28,7 @@ bool health_problems(const struct health *h)
 {
 	return h->lost_events || h->lost_cycle_records || h->untracked_threads ||
 	       h->untracked_syscall_counts || h->can_frames_not_counted || h->events_not_kept ||
+	       h->hook_runs_missed ||
 	       h->parse_errors || h->actions_dropped || health_near_full(&h->thread_map) ||
 	       health_near_full(&h->can_id_map);
 }

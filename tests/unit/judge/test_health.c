@@ -71,7 +71,7 @@ static void test_health_problems_each(void **state)
 	int i;
 
 	(void)state;
-	for (i = 0; i < 10; i++) {
+	for (i = 0; i < 11; i++) {
 		memset(&h, 0, sizeof(h));
 		h.thread_map.capacity = 100;
 		h.can_id_map.capacity = 100;
@@ -87,6 +87,7 @@ static void test_health_problems_each(void **state)
 		case 7: h.actions_dropped = 1; break;
 		case 8: h.thread_map.entries = 95; break;
 		case 9: h.can_id_map.entries = 100; break;
+		case 10: h.hook_runs_missed = 1; break;
 		}
 		assert_true(health_problems(&h));
 	}
