@@ -883,6 +883,19 @@ static __always_inline void settle(struct rtsup_thread *t, struct cycle_switch_r
 	why_settle(t);
 }
 
+/*
+ * on_cpu - the current thread is in a syscall of its own on this CPU, its
+ * held switch-in settled: a move no switch-in showed (cycle_on_cpu). Before
+ * running(): a move while off CPU is not its next activation's.
+ */
+static __always_inline void on_cpu(struct rtsup_thread *t, __u64 now)
+{
+	__u32 cpu = bpf_get_smp_processor_id();
+
+	if (cycle_on_cpu(t, cpu) & CYC_EV_MIGRATE)
+		emit(RTSUP_EV_UNSAFE, t, now, RTSUP_U_MIGRATE, why_migrated(&t->why, cpu));
+}
+
 /* running - the current thread is in a syscall of its own: it has a CPU */
 static __always_inline void running(struct rtsup_thread *t, __u64 now, const int btf)
 {
@@ -929,6 +942,7 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 		return 0;
 	settle(t, held_switch_in());
 	now = bpf_ktime_get_ns();
+	on_cpu(t, now);
 	running(t, now, btf);
 	if (id < 0 || id >= RTSUP_MAX_SYSCALLS)
 		return 0;
@@ -1006,11 +1020,18 @@ static __always_inline int on_sys_exit(long ret, const int btf)
 	if (!t)
 		return 0;
 	/* the exit is the first event of a thread switched in unseen */
-	if (cycle_switch_in_unseen(t))
-		running(t, bpf_ktime_get_ns(), btf);
+	if (cycle_switch_in_unseen(t)) {
+		__u64 now = bpf_ktime_get_ns();
+
+		settle(t, held_switch_in());
+		on_cpu(t, now);
+		running(t, now, btf);
+	}
 	if (!t->cs.in_delim)
 		return 0;
 	settle(t, held_switch_in());
+	/* moved while it slept: no cycle's move, but its CPU from here on */
+	on_cpu(t, 0);
 	task = CURRENT(btf);
 	/* a step of the sleep's clock (date -s, NTP) moved its release */
 	if (t->cs.clk)

@@ -27,6 +27,8 @@ struct fx {
 	__u64 minflt;		/* the task's fault counters */
 	__u64 majflt;
 	__s32 cpu;		/* CPU of the next switch-in */
+	__s32 run_cpu;		/* CPU it runs on: its last switch-in's, seen or not */
+	__u32 moved;		/* CYC_EV_* of the moves its syscalls found */
 	int relative;		/* the delimiter is a relative sleep */
 	struct cycle_switch_rec rec;	/* a switch-in held, as on the kernel's CPU */
 	int held;		/* switch-ins held so far */
@@ -65,9 +67,22 @@ static void settle(struct fx *f)
 	f->settled |= cycle_settle(&f->t, &f->rec);
 }
 
-static __u32 enter(struct fx *f, __u64 now, __u64 expected)
+/* on_cpu - a syscall's hook, its held switch-in settled: where it runs now */
+static void on_cpu(struct fx *f)
 {
 	settle(f);
+	f->moved |= cycle_on_cpu(&f->t, f->run_cpu);
+}
+
+/* unseen_in - a switch-in on 'cpu' no hook saw (docs/design.md, "Unseen events") */
+static void unseen_in(struct fx *f, __s32 cpu)
+{
+	f->run_cpu = cpu;
+}
+
+static __u32 enter(struct fx *f, __u64 now, __u64 expected)
+{
+	on_cpu(f);
 	return cycle_delim_enter(&f->t, &f->cfg, now, expected,
 				 expected && !f->relative, f->minflt,
 				 f->majflt, &f->out);
@@ -84,7 +99,7 @@ static int untimed_out, untimed_exit;	/* how often the clock read was skipped */
 
 static void leave(struct fx *f, __u64 now)
 {
-	settle(f);
+	on_cpu(f);
 	if (!cycle_delim_exit_timed(&f->t, 0)) {
 		now = UNTIMED;
 		untimed_exit++;
@@ -105,6 +120,7 @@ static __u32 sw_out(struct fx *f, __u64 now, int voluntary)
 
 static __u32 sw_in(struct fx *f, __u64 now)
 {
+	f->run_cpu = f->cpu;
 	/* held like the kernel side holds it: when the thread's wakeup bit is clear */
 	if (!cycle_wakeup_read(&f->t)) {
 		cycle_switch_in_later(&f->rec, f->t.tid, now, f->cpu, f->minflt, f->majflt);
@@ -123,7 +139,7 @@ static void running(struct fx *f, __u64 now)
 
 static __u32 sys(struct fx *f, int unsafe)
 {
-	settle(f);
+	on_cpu(f);
 	return cycle_syscall(&f->t, unsafe);
 }
 
@@ -490,6 +506,51 @@ static void test_cycle_migration(void **state)
 	assert_int_equal(f->t.migrations, 2);
 	assert_int_equal(f->t.unsafe[RTSUP_U_MIGRATE], 1);
 	assert_int_equal(f->t.cs.last_cpu, 2);
+}
+
+/*
+ * A move whose switch-in no hook saw: its next syscall finds the thread on
+ * another CPU. Inside a cycle it is the cycle's migration; while it slept
+ * (found at the delimiter's return), only the thread's, and the cycle after
+ * does not count it again.
+ */
+static void test_cycle_migration_unseen_switch_in(void **state)
+{
+	struct fx *f = *state;
+	__u64 s = rel(2) + LAT;
+
+	steady(f, rel(0), 1, 2);	/* on CPU 0 */
+	assert_int_equal(sw_out(f, s + 50 * US, 0), 0);
+	unseen_in(f, 1);		/* preempted, moved, back on CPU 1 unseen */
+	assert_int_equal(sys(f, 0), 0);
+	assert_int_equal(f->moved, CYC_EV_MIGRATE);
+	assert_int_equal(f->t.migrations, 1);
+	assert_int_equal(f->t.cs.last_cpu, 1);
+	f->moved = 0;
+	assert_int_equal(sys(f, 0), 0);		/* still there: nothing more */
+	assert_int_equal(f->moved, 0);
+	/* release 3 on CPU 1: the cycle of release 2 closes with its move */
+	f->cpu = 1;
+	assert_int_equal(delim_sleep(f, s + 200 * US, rel(3), rel(3) + 2 * US,
+				     rel(3) + LAT, rel(3) + LAT + 1 * US),
+			 CYC_EV_CLOSED);
+	assert_int_equal(f->out.migrations, 1);
+	assert_int_equal(f->t.unsafe[RTSUP_U_MIGRATE], 1);
+	/* it sleeps, wakes on CPU 0 unseen: found at the return, no cycle's */
+	assert_int_equal(enter(f, rel(3) + LAT + EXEC, rel(4)), CYC_EV_CLOSED);
+	assert_int_equal(f->out.migrations, 0);
+	assert_int_equal(sw_out(f, rel(3) + LAT + EXEC + 1 * US, 1), 0);
+	cycle_wakeup(&f->t, rel(4) + 2 * US);
+	unseen_in(f, 0);
+	leave(f, rel(4) + LAT + 1 * US);
+	assert_int_equal(f->moved, 0);
+	assert_int_equal(f->t.migrations, 2);
+	assert_int_equal(f->t.cs.last_cpu, 0);
+	assert_int_equal(sys(f, 0), 0);
+	assert_int_equal(f->moved, 0);
+	assert_int_equal(enter(f, rel(4) + LAT + EXEC, rel(5)), CYC_EV_CLOSED);
+	assert_int_equal(f->out.migrations, 0);
+	assert_int_equal(f->t.unsafe[RTSUP_U_MIGRATE], 1);
 }
 
 /* unsafe syscalls count inside a cycle only, never inside the delimiter */
@@ -1470,6 +1531,7 @@ int main(void)
 		T(test_cycle_early_release),
 		T(test_cycle_delim_no_sleep),
 		T(test_cycle_migration),
+		T(test_cycle_migration_unseen_switch_in),
 		T(test_cycle_unsafe_syscall),
 		T(test_cycle_page_faults),
 		T(test_cycle_activation_mode),
