@@ -1740,6 +1740,32 @@ static __always_inline int on_can_sent(const struct sk_buff *skb, int rc,
 }
 
 /*
+ * on_task_iter - the task iterator's visit of one task: a target's policy,
+ * RT priority, allowed CPUs and cgroup, for the collector's sample
+ * (taskattrs.h). A mask wider than ours keeps its first 1024 CPUs; a
+ * narrower one says how many words it filled.
+ */
+static __always_inline int on_task_iter(struct seq_file *seq, struct task_struct *task)
+{
+	struct rtsup_task_attrs a = {};
+	__u32 sz = bpf_core_field_size(task->cpus_mask);
+
+	a.tid = task->pid;
+	if (!maybe_target(a.tid) || !bpf_map_lookup_elem(&threads, &a.tid))
+		return 0;
+	a.policy = task->policy;
+	a.rt_priority = task->rt_priority;
+	a.cgroup_id = BPF_CORE_READ(task, cgroups, dfl_cgrp, kn, id);
+	if (sz > sizeof(a.cpus))
+		sz = sizeof(a.cpus);
+	if (bpf_probe_read_kernel(a.cpus, sz, &task->cpus_mask))
+		return 0;
+	a.cpu_words = sz / 8;
+	bpf_seq_write(seq, &a, sizeof(a));
+	return 0;
+}
+
+/*
  * The two program sets. RTSUP_EMPTY builds the same hooks with empty bodies:
  * the floor that the benchmark compares against.
  */
@@ -1817,6 +1843,15 @@ SEC("fexit/__sched_setscheduler")
 int BPF_PROG(rt_setsched, struct task_struct *p, const struct sched_attr *attr, bool user,
 	     bool pi, int ret)
 { return BODY(on_setsched(p)); }
+
+/* the collector's one read of the targets' attributes a sample (taskattrs.h) */
+SEC("iter/task")
+int attrs_task(struct bpf_iter__task *ctx)
+{
+	struct task_struct *task = ctx->task;
+
+	return task ? BODY(on_task_iter(ctx->meta->seq, task)) : 0;
+}
 
 RTSUP_PROGS("tp_btf", btf, 1)
 RTSUP_PROGS("raw_tp", raw, 0)

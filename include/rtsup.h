@@ -430,6 +430,20 @@ struct rtsup_cycle_rec {
 	struct rtsup_cycle c;
 };
 
+/*
+ * One target's scheduling attributes and cgroup, as the task iterator
+ * (attrs_task) writes them at a sample (user/collect/taskattrs.h).
+ */
+#define RTSUP_ATTR_CPU_WORDS	16	/* 1024 CPUs, glibc's CPU_SETSIZE */
+struct rtsup_task_attrs {
+	__u32 tid;
+	__s32 policy;			/* SCHED_* without SCHED_RESET_ON_FORK */
+	__u32 rt_priority;		/* 0 unless an RT policy */
+	__u32 cpu_words;		/* words of 'cpus' the kernel's mask filled */
+	__u64 cgroup_id;		/* its cgroup v2 directory's id */
+	__u64 cpus[RTSUP_ATTR_CPU_WORDS];	/* allowed CPUs */
+};
+
 /* Key of the map "unsafe_sys": unsafe syscalls counted per thread. */
 struct rtsup_sys_key {
 	__u32 tid;

@@ -426,27 +426,55 @@ static void process_name(struct collector *c, const struct thread_model *tm, cha
 	memcpy(p->comm, pcomm, RTSUP_COMM_LEN);
 }
 
+/*
+ * attrs_from_iter - the sample's task iterator record of the thread: its
+ * scheduling attributes, and its cgroup's path read again only when its
+ * cgroup changed (a cgroup directory renamed in place keeps its id and its
+ * old path here). False when there is none: the caller asks the kernel.
+ */
+static bool attrs_from_iter(struct collector *c, struct thread_model *tm, char *cg, size_t len)
+{
+	const struct rtsup_task_attrs *a = task_attrs_of(&c->attrs, tm->tid);
+
+	if (!a)
+		return false;
+	if (a->cgroup_id && a->cgroup_id == tm->cgroup_id)
+		snprintf(cg, len, "%s", tm->cgroup);
+	else
+		read_cgroup(tm->tgid, tm->tid, cg, len);
+	tm->cgroup_id = a->cgroup_id;
+	tm->policy = a->policy;
+	tm->prio = a->rt_priority;
+	if (!task_attrs_cpus(&c->attrs, a, tm->cpus, sizeof(tm->cpus)))
+		cpu_list(tm->tid, tm->cpus, sizeof(tm->cpus));
+	return true;
+}
+
 /* refresh_identity - names, cgroup and scheduling attributes of a live thread */
 static void refresh_identity(struct collector *c, struct thread_model *tm)
 {
 	char pcomm[RTSUP_COMM_LEN], cg[sizeof(tm->cgroup)];
 	struct sched_param sp;
+	bool iter;
 
 	if (!tm->pcomm[0])
 		tm->kthread = thread_is_kernel(tm->tgid, tm->tid);
 	process_name(c, tm, pcomm);
-	read_cgroup(tm->tgid, tm->tid, cg, sizeof(cg));
+	/*
+	 * Read at every sample, not copied by the hooks: a thread that changes
+	 * its own policy while it runs would keep a stale copy for a while,
+	 * and the policy check would raise an ERROR that is not true.
+	 */
+	iter = attrs_from_iter(c, tm, cg, sizeof(cg));
+	if (!iter)
+		read_cgroup(tm->tgid, tm->tid, cg, sizeof(cg));
 	if (strcmp(pcomm, tm->pcomm) || strcmp(cg, tm->cgroup)) {
 		memcpy(tm->pcomm, pcomm, sizeof(pcomm));
 		memcpy(tm->cgroup, cg, sizeof(cg));
 		rematch(tm);
 	}
-
-	/*
-	 * Asked every interval, not copied by the hooks: a thread that changes
-	 * its own policy while it runs would keep a stale copy for a while,
-	 * and the policy check would raise an ERROR that is not true.
-	 */
+	if (iter)
+		return;
 	tm->policy = sched_getscheduler(tm->tid);
 	if (tm->policy < 0)
 		return;
@@ -654,6 +682,10 @@ int collector_sample(struct collector *c)
 	causes_sort(&c->causes_win);
 	causes_sort(&c->causes_life);
 	mark_unseen(&c->model);
+	/* every target's attributes in one read; without it, asked thread by thread */
+	if (c->skel->links.attrs_task &&
+	    task_attrs_read(&c->attrs, bpf_link__fd(c->skel->links.attrs_task)))
+		c->attrs.n = 0;
 	err = read_threads(c);
 	if (err)
 		fprintf(stderr, "rtsup-trace: reading the thread map: %s\n", strerror(-err));
@@ -861,4 +893,5 @@ void collector_free(struct collector *c)
 	model_free(&c->model);
 	free(c->batch_keys);
 	free(c->batch_vals);
+	task_attrs_free(&c->attrs);
 }

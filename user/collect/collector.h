@@ -8,6 +8,7 @@
 #define RTSUP_COLLECTOR_H
 
 #include <stdbool.h>
+#include "collect/taskattrs.h"
 #include "model/causes.h"
 #include "model/eventlog.h"
 #include "model/model.h"
@@ -64,6 +65,8 @@ struct collector {
 	void (*on_stack)(void *ctx, const struct rtsup_stack_rec *r,
 			 const struct stack_frame *f, int n, const struct stack_maps *m);
 	void *sink_ctx;
+	/* the targets' attributes at this sample, from the task iterator (taskattrs.h) */
+	struct task_attrs attrs;
 	/* process names read in this sample, by tgid (refresh_identity) */
 	__u64 sample_seq;
 	struct collector_pname {

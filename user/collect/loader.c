@@ -94,10 +94,10 @@ static bool has_function(const char *name)
 /*
  * select_programs - keep one of the two program sets; CAN only with --can,
  * the user page fault hook only with --stacks, --rt's policy hook (rt_*)
- * only when rt_hook
+ * only when rt_hook, the task iterator only when attrs_iter
  */
 static void select_programs(struct bpf_object *obj, bool btf, bool can, bool faults,
-			    bool rt_hook)
+			    bool rt_hook, bool attrs_iter)
 {
 	struct bpf_program *p;
 
@@ -109,6 +109,8 @@ static void select_programs(struct bpf_object *obj, bool btf, bool can, bool fau
 
 		if (!strncmp(bpf_program__name(p), "rt_", 3))
 			bpf_program__set_autoload(p, rt_hook);
+		else if (!strncmp(sec, "iter/", 5))
+			bpf_program__set_autoload(p, attrs_iter);
 		else
 			bpf_program__set_autoload(p, is_btf == btf && (can || !is_can) &&
 						  (faults || !is_fault));
@@ -147,7 +149,7 @@ static int floor_start(struct loader *l, const struct options *o)
 	if (!e)
 		return -errno;
 	l->floor = e;
-	select_programs(e->obj, l->tp_btf, o->can, l->fault_stacks, l->rt_hook);
+	select_programs(e->obj, l->tp_btf, o->can, l->fault_stacks, l->rt_hook, false);
 	bpf_program__set_autoattach(e->progs.rt_setsched, false);
 	/* its maps are never used: keep them small */
 	bpf_object__for_each_map(m, e->obj)
@@ -168,6 +170,8 @@ static int floor_start(struct loader *l, const struct options *o)
  * without the policy hook, which --rt replaces by its per-switch read.
  */
 static bool rt_hook_failed;
+/* the same for the task iterator (an old kernel): the collector asks per thread */
+static bool attrs_iter_failed;
 
 int loader_start(struct loader *l, const struct options *o)
 {
@@ -200,9 +204,12 @@ int loader_start(struct loader *l, const struct options *o)
 	/* --rt: policy changes found where they happen, not at every switch */
 	l->rt_hook = o->targets.rt && l->tp_btf && !rt_hook_failed &&
 		     has_function(RTSUP_RT_HOOK_FN);
-	select_programs(s->obj, l->tp_btf, o->can, l->fault_stacks, l->rt_hook);
-	/* attached on its own below, to know that it failed */
+	/* the targets' attributes in one read a sample, where tracing programs load */
+	l->attrs_iter = l->tp_btf && !attrs_iter_failed && !o->floor;
+	select_programs(s->obj, l->tp_btf, o->can, l->fault_stacks, l->rt_hook, l->attrs_iter);
+	/* attached on their own below, to know that they failed */
 	bpf_program__set_autoattach(s->progs.rt_setsched, false);
+	bpf_program__set_autoattach(s->progs.attrs_task, false);
 	if (o->floor)	/* none of ours: floor_start attaches the empty ones */
 		bpf_object__for_each_program(p, s->obj)
 			bpf_program__set_autoload(p, false);
@@ -252,6 +259,11 @@ int loader_start(struct loader *l, const struct options *o)
 		rt_hook_failed = true;
 		return loader_start(l, o);
 	}
+	if (err && l->attrs_iter) {
+		loader_stop(l);
+		attrs_iter_failed = true;
+		return loader_start(l, o);
+	}
 	if (err == -EPERM) {
 		/* we hold the capabilities (checked above), yet the kernel says no:
 		 * the verifier's log would not help */
@@ -286,6 +298,11 @@ int loader_start(struct loader *l, const struct options *o)
 			rt_hook_failed = true;
 			return loader_start(l, o);
 		}
+	}
+	/* without it the collector asks the kernel thread by thread */
+	if (!err && l->attrs_iter && !o->floor) {
+		s->links.attrs_task = bpf_program__attach_iter(s->progs.attrs_task, NULL);
+		l->attrs_iter = s->links.attrs_task != NULL;
 	}
 	if (!err && o->floor)
 		err = floor_start(l, o);

@@ -15,6 +15,7 @@ struct loader {
 	bool tp_btf;		/* which program set is attached */
 	bool fault_stacks;	/* --stacks: the user page fault hook is attached */
 	bool rt_hook;		/* --rt: the policy hook is attached (rtfollow.h) */
+	bool attrs_iter;	/* the task iterator is loaded (taskattrs.h) */
 	int cgroup_fd;
 	int stats_fd;		/* holds BPF run-time statistics on, -1 = off */
 };

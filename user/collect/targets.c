@@ -281,6 +281,36 @@ int targets_scan(const struct targets *t, target_cb cb, void *ctx)
 	return err;
 }
 
+int cpu_list_parse(const char *text, unsigned long *bits, int nbits)
+{
+	const int w = 8 * sizeof(*bits);
+	const char *p = text;
+	char *end;
+	long a, b, c;
+
+	memset(bits, 0, (nbits + w - 1) / w * sizeof(*bits));
+	while (*p && *p != '\n') {
+		a = strtol(p, &end, 10);
+		if (end == p || a < 0)
+			return -EINVAL;
+		b = a;
+		p = end;
+		if (*p == '-') {
+			b = strtol(++p, &end, 10);
+			if (end == p || b < a)
+				return -EINVAL;
+			p = end;
+		}
+		for (c = a; c <= b && c < nbits; c++)
+			bits[c / w] |= 1UL << (c % w);
+		if (*p == ',')
+			p++;
+		else if (*p && *p != '\n')
+			return -EINVAL;
+	}
+	return 0;
+}
+
 void cpu_list_mask(const unsigned long *bits, int nbits, char *buf, size_t len)
 {
 	const int w = 8 * sizeof(*bits);

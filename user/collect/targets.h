@@ -69,5 +69,11 @@ bool comm_matches(const struct targets *t, const char *comm);
 void cpu_list(pid_t tid, char *buf, size_t len);
 /* cpu_list_mask - the same for a CPU bit mask of nbits bits */
 void cpu_list_mask(const unsigned long *bits, int nbits, char *buf, size_t len);
+/*
+ * cpu_list_parse - the reverse, for the kernel's lists ("0-3,6\n", as in
+ * /sys/devices/system/cpu/online): bits of nbits set, CPUs past them
+ * ignored; -EINVAL for text that is not such a list
+ */
+int cpu_list_parse(const char *text, unsigned long *bits, int nbits);
 
 #endif

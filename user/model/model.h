@@ -89,6 +89,7 @@ struct thread_model {
 	/* supervision: filled by the supervisor, read by the sinks */
 	char pcomm[RTSUP_COMM_LEN];	/* the process's name */
 	char cgroup[256];		/* cgroup v2 path, "" if unknown */
+	__u64 cgroup_id;		/* the id it was read for (task iterator), 0 = none */
 	int rule;			/* index of the matching rule, -1 = defaults */
 	__u32 rule_gen;			/* config generation 'rule' belongs to, 0 = none */
 	__u32 cfg_gen;			/* config generation written to the kernel */

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
 /* test_targets.c - the CPU list shown for a thread's affinity; kernel threads from /proc */
+#include <errno.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -45,6 +46,31 @@ static void test_cpu_list_empty_and_single(void **state)
 	set(bits, 5);
 	cpu_list_mask(bits, 64, buf, sizeof(buf));
 	assert_string_equal(buf, "5");
+}
+
+/* the kernel's CPU lists read back: what cpu_list_mask writes, and bad text */
+static void test_cpu_list_parse(void **state)
+{
+	unsigned long bits[1024 / W], back[1024 / W] = { 0 };
+	char buf[64];
+
+	(void)state;
+	assert_int_equal(cpu_list_parse("0-3,6,63-64,1023\n", bits, 1024), 0);
+	set(back, 0), set(back, 1), set(back, 2), set(back, 3), set(back, 6);
+	set(back, 63), set(back, 64), set(back, 1023);
+	assert_memory_equal(bits, back, sizeof(bits));
+	cpu_list_mask(bits, 1024, buf, sizeof(buf));
+	assert_string_equal(buf, "0-3,6,63-64,1023");
+	/* CPUs past the mask are left out, not written past it */
+	assert_int_equal(cpu_list_parse("1,100-200", bits, 128), 0);
+	cpu_list_mask(bits, 128, buf, sizeof(buf));
+	assert_string_equal(buf, "1,100-127");
+	assert_int_equal(cpu_list_parse("", bits, 64), 0);
+	assert_int_equal(bits[0], 0);
+	assert_int_equal(cpu_list_parse("3-1", bits, 64), -EINVAL);
+	assert_int_equal(cpu_list_parse("a", bits, 64), -EINVAL);
+	assert_int_equal(cpu_list_parse("1;2", bits, 64), -EINVAL);
+	assert_int_equal(cpu_list_parse("-1", bits, 64), -EINVAL);
 }
 
 /* a list longer than the buffer is cut, never overrun */
@@ -127,6 +153,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_cpu_list_ranges),
 		cmocka_unit_test(test_cpu_list_empty_and_single),
+		cmocka_unit_test(test_cpu_list_parse),
 		cmocka_unit_test(test_cpu_list_truncated),
 		cmocka_unit_test(test_stat_flags_kthread),
 		cmocka_unit_test(test_thread_is_kernel_here),

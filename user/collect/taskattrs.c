@@ -1,0 +1,121 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/* taskattrs.c - the task iterator's records of the targets (taskattrs.h) */
+#include <errno.h>
+#include <fcntl.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include <bpf/bpf.h>
+#include "taskattrs.h"
+#include "targets.h"
+
+/* read_online - /sys/devices/system/cpu/online into ta->online */
+static void read_online(struct task_attrs *ta)
+{
+	char text[4096];
+	int fd = open("/sys/devices/system/cpu/online", O_RDONLY | O_CLOEXEC);
+	ssize_t n = fd < 0 ? -1 : read(fd, text, sizeof(text) - 1);
+
+	if (fd >= 0)
+		close(fd);
+	ta->online_ok = false;
+	if (n <= 0)
+		return;
+	text[n] = '\0';
+	ta->online_ok = !cpu_list_parse(text, ta->online, RTSUP_ATTR_CPU_WORDS * 64);
+}
+
+static int by_tid(const void *a, const void *b)
+{
+	__u32 x = ((const struct rtsup_task_attrs *)a)->tid;
+	__u32 y = ((const struct rtsup_task_attrs *)b)->tid;
+
+	return x < y ? -1 : x > y;
+}
+
+int task_attrs_parse(struct task_attrs *ta, const void *buf, size_t len)
+{
+	size_t n = len / sizeof(struct rtsup_task_attrs);
+
+	ta->n = 0;
+	ta->torn = len % sizeof(struct rtsup_task_attrs);
+	if (n > ta->cap) {
+		void *p = realloc(ta->a, n * sizeof(*ta->a));
+
+		if (!p)
+			return -ENOMEM;
+		ta->a = p;
+		ta->cap = n;
+	}
+	if (n)
+		memcpy(ta->a, buf, n * sizeof(*ta->a));
+	ta->n = n;
+	/* the iterator walks tids in order; sorted here whatever the kernel did */
+	qsort(ta->a, n, sizeof(*ta->a), by_tid);
+	return 0;
+}
+
+int task_attrs_read(struct task_attrs *ta, int link_fd)
+{
+	size_t len = 0;
+	ssize_t r;
+	int fd = bpf_iter_create(link_fd), err = 0;
+
+	ta->n = 0;
+	if (fd < 0)
+		return -errno;
+	for (;;) {
+		if (ta->buf_cap - len < 4096) {
+			size_t ncap = ta->buf_cap ? ta->buf_cap * 2 : 64 * 1024;
+			char *p = realloc(ta->buf, ncap);
+
+			if (!p) {
+				err = -ENOMEM;
+				break;
+			}
+			ta->buf = p;
+			ta->buf_cap = ncap;
+		}
+		r = read(fd, ta->buf + len, ta->buf_cap - len);
+		if (r < 0 && errno == EINTR)
+			continue;
+		if (r < 0) {
+			err = -errno;
+			break;
+		}
+		if (!r)
+			break;
+		len += r;
+	}
+	close(fd);
+	read_online(ta);
+	return err ?: task_attrs_parse(ta, ta->buf, len);
+}
+
+const struct rtsup_task_attrs *task_attrs_of(const struct task_attrs *ta, __u32 tid)
+{
+	struct rtsup_task_attrs key = { .tid = tid };
+
+	return ta->n ? bsearch(&key, ta->a, ta->n, sizeof(*ta->a), by_tid) : NULL;
+}
+
+bool task_attrs_cpus(const struct task_attrs *ta, const struct rtsup_task_attrs *a,
+		     char *buf, size_t len)
+{
+	unsigned long bits[RTSUP_ATTR_CPU_WORDS] = { 0 };
+	__u32 i;
+
+	if (!ta->online_ok)
+		return false;
+	for (i = 0; i < a->cpu_words && i < RTSUP_ATTR_CPU_WORDS; i++)
+		bits[i] = a->cpus[i] & ta->online[i];
+	cpu_list_mask(bits, RTSUP_ATTR_CPU_WORDS * 64, buf, len);
+	return true;
+}
+
+void task_attrs_free(struct task_attrs *ta)
+{
+	free(ta->a);
+	free(ta->buf);
+	memset(ta, 0, sizeof(*ta));
+}
