@@ -35,7 +35,8 @@ long long loader_run_time(const struct loader *l);
  * loader_runs_missed - runs of our programs the kernel skipped because the
  * same program was already running on that CPU (a wakeup from an interrupt
  * inside its own hook): each is an event not seen. The kernel counts them
- * whether or not statistics are on; 0 before 5.12, which does not say.
+ * whether or not statistics are on; before 6.7 tracepoint programs ran
+ * nested instead, and this is 0.
  */
 __u64 loader_runs_missed(const struct loader *l);
 /*
