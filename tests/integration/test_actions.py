@@ -93,7 +93,9 @@ def test_script_action_one_call_per_transition(tmp_path):
     # the injected fault: OK -> WARN for rt_unsafe (mmap), then back to OK
     mine = [j for _, j in got if j["component"] == "%s-0[%d]" % (prefix, t0["tid"])]
     assert [(j["from"], j["level"]) for j in mine][:2] == [("OK", "WARN"), ("WARN", "OK")], mine
-    assert "rt_unsafe" in mine[0]["checks"] and "mmap 1" in mine[0]["messages"][0], mine
+    # by kind, not by position: under noise a deadline-miss message comes first
+    assert "rt_unsafe" in mine[0]["checks"], mine
+    assert any("mmap 1" in m for m in mine[0]["messages"]), mine
     assert mine[0]["tid"] == t0["tid"] and mine[0]["pid"] == t0["tgid"], mine
     assert mine[1]["messages"] == [] and mine[1]["checks"] == []
 
