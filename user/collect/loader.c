@@ -300,7 +300,7 @@ int loader_start(struct loader *l, const struct options *o)
 		}
 	}
 	/* without it the collector asks the kernel thread by thread */
-	if (!err && l->attrs_iter && !o->floor) {
+	if (!err && l->attrs_iter) {
 		s->links.attrs_task = bpf_program__attach_iter(s->progs.attrs_task, NULL);
 		l->attrs_iter = s->links.attrs_task != NULL;
 	}
@@ -319,14 +319,19 @@ fail:
 	return -1;
 }
 
-long long loader_run_time(const struct loader *l)
+/*
+ * prog_info_sums - run time and skipped runs summed over the programs that
+ * run (with --floor, the empty ones); -1 when one program's info could not
+ * be read (its numbers are left out)
+ */
+static int prog_info_sums(const struct loader *l, __u64 *run_time, __u64 *missed)
 {
 	struct bpf_prog_info info;
 	struct bpf_program *p;
 	__u32 len;
-	long long sum = 0;
+	int err = 0;
 
-	/* with --floor, the empty programs are the ones that run */
+	*run_time = *missed = 0;
 	bpf_object__for_each_program(p, l->floor ? l->floor->obj : l->skel->obj) {
 		int fd = bpf_program__fd(p);
 
@@ -334,31 +339,29 @@ long long loader_run_time(const struct loader *l)
 			continue;	/* the program set we did not load */
 		memset(&info, 0, sizeof(info));
 		len = sizeof(info);
-		if (bpf_obj_get_info_by_fd(fd, &info, &len))
-			return -1;
-		sum += info.run_time_ns;
+		if (bpf_obj_get_info_by_fd(fd, &info, &len)) {
+			err = -1;
+			continue;
+		}
+		*run_time += info.run_time_ns;
+		*missed += info.recursion_misses;
 	}
-	return sum;
+	return err;
+}
+
+long long loader_run_time(const struct loader *l)
+{
+	__u64 run_time, missed;
+
+	return prog_info_sums(l, &run_time, &missed) ? -1 : (long long)run_time;
 }
 
 __u64 loader_runs_missed(const struct loader *l)
 {
-	struct bpf_prog_info info;
-	struct bpf_program *p;
-	__u64 sum = 0;
-	__u32 len;
+	__u64 run_time, missed;
 
-	bpf_object__for_each_program(p, l->floor ? l->floor->obj : l->skel->obj) {
-		int fd = bpf_program__fd(p);
-
-		if (fd < 0)
-			continue;
-		memset(&info, 0, sizeof(info));
-		len = sizeof(info);
-		if (!bpf_obj_get_info_by_fd(fd, &info, &len))
-			sum += info.recursion_misses;
-	}
-	return sum;
+	prog_info_sums(l, &run_time, &missed);
+	return missed;
 }
 
 int loader_stats(struct loader *l, bool on)
