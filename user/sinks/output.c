@@ -346,6 +346,8 @@ static json_t *json_fold(const struct collector *c, const struct event_fold *f)
 	o = json_event(c, &e);
 	for (i = 0; i < sizeof(per_event) / sizeof(per_event[0]); i++)
 		json_object_del(o, per_event[i]);
+	if (f->type == RTSUP_EV_MISS)
+		json_object_set_new(o, "cause", json_pack("{s:s}", "kind", cause_kind_name(f->kind)));
 	fmt_time(c, f->first_ts, first, sizeof(first));
 	fmt_time(c, f->last_ts, last, sizeof(last));
 	json_object_update_new(o, json_pack("{s:I,s:I,s:s,s:s}", "seen", (json_int_t)f->seen,

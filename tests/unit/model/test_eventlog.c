@@ -88,6 +88,37 @@ static void test_eventlog_floods_by_thread_and_kind(void **state)
 	eventlog_free(&l);
 }
 
+/* the noise-injector failure: a block miss amid a flood of preemption
+ * misses was folded away; each cause kind is its own flood */
+static void test_eventlog_misses_fold_per_cause_kind(void **state)
+{
+	struct eventlog l = { 0 };
+	__u64 t = 1;
+	size_t i, blocks = 0;
+	int k;
+
+	for (k = 0; k < 1000; k++) {
+		struct rtsup_event e = ev(t++, RTSUP_EV_MISS, 4, 500, 0);
+
+		e.cause.kind = RTSUP_CAUSE_PREEMPT;
+		eventlog_add(&l, &e);
+		if (k == 500) {
+			e = ev(t++, RTSUP_EV_MISS, 4, 900, 0);
+			e.cause.kind = RTSUP_CAUSE_BLOCK;
+			eventlog_add(&l, &e);
+		}
+	}
+	eventlog_finish(&l);
+	for (i = 0; i < l.n; i++)
+		blocks += l.ev[i].cause.kind == RTSUP_CAUSE_BLOCK;
+	assert_int_equal(blocks, 1);
+	assert_int_equal(l.n, 2 * EVENTLOG_KEEP + 1);
+	assert_int_equal(l.folded, 1000 - 2 * EVENTLOG_KEEP);
+	assert_int_equal(l.nflood, 1);
+	assert_int_equal(l.fold[0].kind, RTSUP_CAUSE_PREEMPT);
+	eventlog_free(&l);
+}
+
 /* a few events of a kind are all kept; nothing folded, no flood listed */
 static void test_eventlog_small_floods_kept_whole(void **state)
 {
@@ -153,6 +184,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_eventlog_exit_survives_10000_misses),
 		cmocka_unit_test(test_eventlog_floods_by_thread_and_kind),
+		cmocka_unit_test(test_eventlog_misses_fold_per_cause_kind),
 		cmocka_unit_test(test_eventlog_small_floods_kept_whole),
 		cmocka_unit_test(test_eventlog_clear_and_grow),
 		cmocka_unit_test(test_eventlog_never_folded_table),
