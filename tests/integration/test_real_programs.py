@@ -183,5 +183,5 @@ def test_stopped_and_continued_loop(bpf, tmp_path):
     # or one after its timerfd read was woken (within the wakeup's latency,
     # the stop comes on the way back to user space). A CI run saw two of
     # five, where "1/200 per stop" had allowed one. The program counts both
-    # kinds itself (the read's expirations say which; timerfd_loop.c)
+    # kinds itself (time its read's expirations do not account for; timerfd_loop.c)
     assert tot["unsafe"]["block"] == truth["stopped_in_cycle"], (tot["unsafe"], truth)
