@@ -30,8 +30,10 @@ static __u64 fold_kind(const struct rtsup_event *e)
 	case RTSUP_EV_SIGNAL:
 		return e->arg;
 	case RTSUP_EV_MISS:
-		/* one flood per cause kind: a flood of preemptions by noise
-		 * must not hide the one miss that blocked on a mutex */
+		/*
+		 * one flood per cause kind: a flood of preemptions by noise
+		 * must not hide the one miss that blocked on a mutex
+		 */
 		return e->cause.kind;
 	}
 	return 0;

@@ -88,8 +88,10 @@ static void test_eventlog_floods_by_thread_and_kind(void **state)
 	eventlog_free(&l);
 }
 
-/* the noise-injector failure: a block miss amid a flood of preemption
- * misses was folded away; each cause kind is its own flood */
+/*
+ * the noise-injector failure: a block miss amid a flood of preemption
+ * misses was folded away; each cause kind is its own flood
+ */
 static void test_eventlog_misses_fold_per_cause_kind(void **state)
 {
 	struct eventlog l = { 0 };
