@@ -270,9 +270,11 @@ static void sample_can(const struct options *o, struct supervisor *s, const stru
 }
 
 /*
- * sample - end an interval: read every map, then the clock. The kernel keeps
- * stamping while the maps are read; 'now' read after them is not older than
- * any timestamp they hold (ns_since clamps what is left, since.h).
+ * sample - end an interval: the clock, then every map. 'now' is the
+ * interval's end as the kernel's epoch flip marks it (collector.c,
+ * epoch_flip), not the end of the read: read after, it counted the read's
+ * own time (tens of ms in an emulated guest) as time a thread went
+ * without a cycle, a false "starving".
  */
 static __u64 sample(const struct options *o, struct supervisor *s, const struct loader *l,
 		    struct collector *c)
@@ -280,7 +282,7 @@ static __u64 sample(const struct options *o, struct supervisor *s, const struct 
 	collector_sample(c);
 	s->real_off = c->real_off;
 	sample_can(o, s, l, c);
-	return mono_now();
+	return c->end_ns;
 }
 
 /* stacks_plan - what the kernel side is loaded with for --stacks and the rules' stacks: */

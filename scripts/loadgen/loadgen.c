@@ -76,6 +76,14 @@ struct worker {
 	long cycles, misses, overruns, overruns_seen, page_faults, blocks, stalls;
 	/* --audit: cycles a tracer may judge otherwise (race_audit()), sleeps */
 	long misses_near, overruns_near, vol_switches;
+	/*
+	 * The longest a tracer can have seen since the start of this thread's
+	 * last finished cycle: a cycle's start lies between its clock read
+	 * before the sleep and the one after, so at any instant it is less
+	 * than from the read before a cycle's sleep to the start of the cycle
+	 * after next (or to the thread's end). Not kept past --hold's park.
+	 */
+	int64_t max_start_span;
 	long sc[NR_SC];
 	bool exited;
 	long exit_cycle;
@@ -586,6 +594,7 @@ static void *worker_main(void *arg)
 {
 	struct worker *w = arg;
 	int64_t period = cfg.period_us * 1000, next, now, start, work, span;
+	int64_t pre1 = 0, pre2 = 0;	/* the clock before the sleep, one and two cycles ago */
 	long vol0 = 0, vol = 0, inv = 0, inv_end = 0;
 	struct pending_overrun prev = { 0 };
 	bool late, edge = false;
@@ -633,6 +642,10 @@ static void *worker_main(void *arg)
 		 * tracer's cycle only, and in neither count).
 		 */
 		start = now_ns();
+		if (c >= 2 && start - pre2 > w->max_start_span)
+			w->max_start_span = start - pre2;
+		pre2 = pre1;
+		pre1 = now;
 		if (cfg.audit) {
 			/* preempted between the last end read and this cycle's start? */
 			rusage_switches(&vol, &inv);
@@ -666,6 +679,10 @@ static void *worker_main(void *arg)
 		rusage_switches(&vol, &inv);
 		w->vol_switches = vol - vol0;
 	}
+	/* the last cycle never finishes: its predecessor's start is the last, until we end */
+	now = now_ns();
+	if (w->cycles >= 2 && !cfg.hold && now - pre2 > w->max_start_span)
+		w->max_start_span = now - pre2;
 	__atomic_fetch_add(&workers_done, 1, __ATOMIC_RELEASE);
 	/*
 	 * --hold: one more delimiter call closes the last cycle, so a tracer
@@ -976,6 +993,7 @@ static json_t *thread_json(const struct worker *w)
 			"deadline_misses_near", (json_int_t)w->misses_near,
 			"overruns_near", (json_int_t)w->overruns_near,
 			"voluntary_switches", (json_int_t)w->vol_switches));
+	json_object_set_new(o, "max_start_span_ns", json_integer((json_int_t)w->max_start_span));
 	return o;
 }
 

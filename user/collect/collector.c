@@ -641,9 +641,16 @@ static int read_threads(struct collector *c)
  * those it did not find are dead only after a complete read (mark_absent).
  */
 
-/* epoch_flip - the interval ends: its min/max bank is no longer written */
+/*
+ * epoch_flip - the interval ends, at one instant: the clock read and its
+ * min/max bank no longer written. Every "how long ago" of the checks is
+ * taken from end_ns, read before the maps: a reader held up while or after
+ * it reads them (an emulated guest, a busy CPU) cannot make a thread look
+ * starved; a stamp newer than end_ns is 0 ns old (since.h).
+ */
 static void epoch_flip(struct collector *c)
 {
+	c->end_ns = mono_now();
 	c->bank = RTSUP_BANK(c->skel->bss->epoch);
 	c->skel->bss->epoch++;
 }

@@ -48,6 +48,7 @@ struct collector {
 	int epfd;			/* the ring buffer's epoll fd and clock_fd */
 	__u64 clock_steps;		/* wall clock steps seen */
 	__u64 start_ns;			/* monotonic start */
+	__u64 end_ns;			/* when the last sample ended its interval */
 	__u32 map_entries;		/* entries of the thread map at the last sample */
 	/* the thread map is read COLLECTOR_BATCH entries per syscall */
 	__u32 *batch_keys;
@@ -88,7 +89,7 @@ int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct opt
 int collector_scan(struct collector *c, const struct targets *t);
 /* collector_poll - wait up to ms for rare events, consume for at most that (or 10 ms) */
 int collector_poll(struct collector *c, int ms);
-/* collector_sample - end an interval: refresh the model from the maps */
+/* collector_sample - end an interval at end_ns: refresh the model from the maps */
 int collector_sample(struct collector *c);
 /* collector_reap - after the sinks ran: free what dead threads left */
 void collector_reap(struct collector *c);
