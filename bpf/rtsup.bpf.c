@@ -925,6 +925,43 @@ static __always_inline int compat_syscall(struct task_struct *task, const int bt
 #endif
 }
 
+/* the inputs of delim_cycle, one object: a global function takes five arguments */
+struct delim_in {
+	struct cycle_cfg cf;
+	__u64 now, expected, minflt, majflt;
+	__u64 absolute;
+};
+
+/*
+ * The cycle a delimiter closed, per CPU, from delim_cycle to its caller: a
+ * map value, whose contents the verifier never assumes (a stack object
+ * written by a global function may keep what it held before the call, in
+ * the verifier's view). Only the sys_enter programs use it, and the kernel
+ * never runs one program twice at once on a CPU.
+ */
+struct {
+	__uint(type, BPF_MAP_TYPE_PERCPU_ARRAY);
+	__uint(max_entries, 1);
+	__type(key, __u32);
+	__type(value, struct rtsup_cycle);
+} delim_out SEC(".maps");
+
+/*
+ * delim_cycle - the cycle state machine at a delimiter (cycle.h). A global
+ * function, which the verifier checks once on its own: inlined, each of
+ * its paths went on through why_delim and emit_cycle (437 815
+ * instructions verified, 0.5 s at every start on a PC, 5 s in an emulated
+ * guest; docs/performance.md, "Start-up").
+ */
+__noinline int delim_cycle(struct rtsup_thread *t, const struct delim_in *in,
+			   struct rtsup_cycle *c)
+{
+	if (!t || !in || !c)
+		return 0;
+	return cycle_delim_enter(t, &in->cf, in->now, in->expected, in->absolute,
+				 in->minflt, in->majflt, c);
+}
+
 /* on_sys_enter - cycle delimiter or a syscall inside a cycle */
 static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int btf)
 {
@@ -932,8 +969,7 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 	struct rtsup_thread *t = lookup_thread(tid);
 	struct rtsup_thread_cfg *tc;
 	struct task_struct *task;
-	struct rtsup_cycle c;
-	struct cycle_cfg cf;
+	struct rtsup_cycle *c;
 	__u32 nr, *cls, ev;
 	__u64 now, expected;
 	int unsafe, delim, absolute = 0;
@@ -977,14 +1013,21 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 		expected = absolute ? t->cs.abs_expected : t->cs.expected;
 	}
 	if (delim) {
-		cf = cfg(tc);
-		ev = cycle_delim_enter(t, &cf, now, expected, absolute,
-				       TREAD(btf, task, min_flt), TREAD(btf, task, maj_flt), &c);
-		why_delim(&t->why, ev, ev & CYC_EV_CLOSED ? c.cpu : 0,
-			  ev & CYC_EV_CLOSED ? c.nominal : 0, now, expected);
+		struct delim_in in = {
+			.cf = cfg(tc), .now = now, .expected = expected, .absolute = absolute,
+			.minflt = TREAD(btf, task, min_flt), .majflt = TREAD(btf, task, maj_flt),
+		};
+		__u32 zero = 0;
+
+		c = bpf_map_lookup_elem(&delim_out, &zero);
+		if (!c)
+			return 0;	/* an array's one entry: never */
+		ev = delim_cycle(t, &in, c);
+		why_delim(&t->why, ev, ev & CYC_EV_CLOSED ? c->cpu : 0,
+			  ev & CYC_EV_CLOSED ? c->nominal : 0, now, expected);
 		note_wake(t);
 		if (ev & CYC_EV_CLOSED)
-			emit_cycle(ev, t, now, &c, now - expected);
+			emit_cycle(ev, t, now, c, now - expected);
 		return 0;
 	}
 	unsafe = *cls & RTSUP_SC_UNSAFE;
@@ -1139,6 +1182,46 @@ static __always_inline int switch_timed(const struct rtsup_thread *nt, int hold,
 	return nt || hold || CYC_PATH_TIMED(CYC_OUT_TIMED, out);
 }
 
+/* the inputs of switch_out_cycle, one object, as delim_in */
+struct switch_out_in {
+	struct cycle_cfg cf;
+	__u64 now, minflt, majflt;
+	__u32 path, voluntary;
+};
+
+/* The cycle a switch-out closed, per CPU: as delim_out, for sched_switch only. */
+struct {
+	__uint(type, BPF_MAP_TYPE_PERCPU_ARRAY);
+	__uint(max_entries, 1);
+	__type(key, __u32);
+	__type(value, struct rtsup_cycle);
+} switch_out SEC(".maps");
+
+/*
+ * switch_out_cycle - the cycle state machine as a target leaves the CPU
+ * (cycle.h); global for the reason delim_cycle is (96 666 instructions
+ * verified in sched_switch inlined, 24 349 now)
+ */
+__noinline int switch_out_cycle(struct rtsup_thread *t, const struct switch_out_in *in,
+				struct rtsup_cycle *c)
+{
+	if (!t || !in || !c)
+		return 0;
+	return cycle_switch_out_on(t, &in->cf, in->path, in->now, in->voluntary, in->minflt,
+				   in->majflt, c);
+}
+
+/* switch_out_run - switch_out_cycle with this CPU's record for the cycle it may close (*c) */
+static __always_inline __u32 switch_out_run(struct rtsup_thread *t,
+					    const struct switch_out_in *in,
+					    struct rtsup_cycle **c)
+{
+	__u32 zero = 0;
+
+	*c = bpf_map_lookup_elem(&switch_out, &zero);
+	return *c ? switch_out_cycle(t, in, *c) : 0;	/* an array's one entry: never NULL */
+}
+
 /* on_switch - one thread leaves the CPU, another gets it */
 static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 				     struct task_struct *next, const int btf)
@@ -1146,8 +1229,7 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 	__u32 prev_tid = TREAD(btf, prev, pid), next_tid = TREAD(btf, next, pid);
 	struct rtsup_thread *pt, *nt;
 	struct cycle_switch_rec *r = NULL;
-	struct rtsup_cycle c;
-	struct cycle_cfg cf;
+	struct rtsup_cycle *c = NULL;
 	enum cycle_out_path out = CYC_OUT_IDLE;
 	int voluntary, hold = 0;
 	__u32 ev, state = 0, cpu = bpf_get_smp_processor_id();
@@ -1187,11 +1269,14 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 					      TREAD(btf, next, min_flt), TREAD(btf, next, maj_flt));
 	}
 	if (pt) {
-		cf = cfg(pt->cs.mode == RTSUP_MODE_DELIM ? NULL :
-			 thread_cfg_of(prev_tid));
+		struct switch_out_in so = {
+			.cf = cfg(pt->cs.mode == RTSUP_MODE_DELIM ? NULL : thread_cfg_of(prev_tid)),
+			.now = now, .path = out, .voluntary = voluntary,
+			.minflt = TREAD(btf, prev, min_flt), .majflt = TREAD(btf, prev, maj_flt),
+		};
+
 		why_switch_out(&pt->why, &pt->cs, now, voluntary, state);
-		ev = cycle_switch_out_on(pt, &cf, out, now, voluntary, TREAD(btf, prev, min_flt),
-					 TREAD(btf, prev, maj_flt), &c);
+		ev = switch_out_run(pt, &so, &c);
 		/* preempted while released: it waits for this CPU (cause.h) */
 		if (!voluntary && now && ws) {
 			int i = why_pick(ws, prev_tid, now);
@@ -1209,8 +1294,8 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 			/* prev is the current task: where it blocked */
 			capture_stack(pt, now, RTSUP_U_BLOCK, 0);
 		}
-		if (ev & CYC_EV_CLOSED)
-			emit_cycle(ev, pt, now, &c, 0);
+		if (c && (ev & CYC_EV_CLOSED))
+			emit_cycle(ev, pt, now, c, 0);
 	}
 	if (nt) {
 		ev = cycle_switch_in(nt, now, cpu, TREAD(btf, next, min_flt),
