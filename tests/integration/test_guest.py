@@ -93,3 +93,18 @@ def test_guest_init_pins_every_tracepoint_rtsup_attaches():
               if e.split("/")[0] in ("sched", "raw_syscalls", "task", "signal", "net", "irq",
                                      "exceptions")}
     assert len(attached) >= 16 and attached <= pinned, attached - pinned
+
+
+def test_boot_timeout_boots_once_more_then_fails():
+    """A boot that hangs before the command starts is booted once more, and
+    only once (a CI run lost 47 min to one TCG boot hang): a boot timeout too
+    short for any boot (2 s; one takes 8-27 s here) times out twice, says
+    so, keeps the first console and exits 125."""
+    need_vm("rt-6.1")
+    r = subprocess.run([str(VM), "run", "--kernel", "rt-6.1", "--boot-timeout", "2", "--",
+                        "true"], capture_output=True, text=True,
+                       timeout=120, cwd=ROOT)
+    assert r.returncode == 125, r.stderr
+    assert r.stderr.count("boot timeout: the guest did not start the command within 2 s") == 2
+    assert r.stderr.count("booting once more after the boot timeout") == 1, r.stderr
+    assert (ROOT / "build" / "vm" / "hung-console.log").exists()
