@@ -635,10 +635,11 @@ static int read_threads(struct collector *c)
 
 /*
  * An interval, as collector_sample reads it: epoch_flip ends it in the
- * kernel (rtsup.h, "Interval windows"); every thread is marked unseen with
- * an empty interval (mark_unseen), the thread map read marks those it
- * finds (take: the snapshot difference, and alive from the entry), and
- * those it did not find are dead only after a complete read (mark_absent).
+ * kernel (rtsup.h, "Interval windows"); every thread is marked unseen
+ * (mark_unseen), the thread map read marks those it finds (take: the
+ * snapshot difference, and alive from the entry), and those it did not
+ * find get an empty interval and are dead only after a complete read
+ * (mark_absent).
  */
 
 /*
@@ -655,25 +656,31 @@ static void epoch_flip(struct collector *c)
 	c->skel->bss->epoch++;
 }
 
-/* mark_unseen - before the read: a thread not in the map any more had an empty interval */
+/* mark_unseen - before the read: no thread read yet */
 static void mark_unseen(struct model *m)
 {
 	int i;
 
-	for (i = 0; i < m->n; i++) {
+	for (i = 0; i < m->n; i++)
 		m->t[i]->seen = false;
-		model_idle(m->t[i]);
-	}
 }
 
-/* mark_absent - after the read: an entry not read is dead only if the whole map was */
+/*
+ * mark_absent - after the read: a thread not in the map any more had an
+ * empty interval (one read sets the interval of each it found), and is
+ * dead only if the whole map was read
+ */
 static void mark_absent(struct model *m, bool read_complete)
 {
 	int i;
 
-	for (i = 0; i < m->n; i++)
-		if (!m->t[i]->seen && thread_dead(read_complete, false, false))
+	for (i = 0; i < m->n; i++) {
+		if (m->t[i]->seen)
+			continue;
+		model_idle(m->t[i]);
+		if (thread_dead(read_complete, false, false))
 			m->t[i]->alive = false;
+	}
 }
 
 int collector_sample(struct collector *c)

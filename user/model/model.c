@@ -37,8 +37,9 @@ struct hist_pre {
 	double err;	/* sum over buckets of count * half of [lo, hi] */
 };
 
-/* hist_pre_scan - the pass over the buckets that the sum needs */
-static void hist_pre_scan(struct hist_pre *p, const __u64 *h, __u64 min, __u64 max)
+/* hist_pre_scan - the pass over the buckets [b0, b1] that the sum needs */
+static void hist_pre_scan(struct hist_pre *p, const __u64 *h, int b0, int b1, __u64 min,
+			  __u64 max)
 {
 	__u64 lo, hi;
 	int b;
@@ -46,7 +47,7 @@ static void hist_pre_scan(struct hist_pre *p, const __u64 *h, __u64 min, __u64 m
 	p->mid = p->err = 0;
 	if (p->sum < 0)
 		return;
-	for (b = 0; b < HIST_BUCKETS; b++) {
+	for (b = b0; b <= b1; b++) {
 		if (!h[b] || !clamp_bucket(b, min, max, &lo, &hi))
 			continue;
 		p->mid += (double)h[b] * ((double)lo + (double)(hi - lo) / 2);
@@ -84,16 +85,17 @@ static __u64 bucket_rank_value(const struct hist_pre *p, int b, __u64 k, __u64 c
 /*
  * hist_quantiles - n ascending quantiles of the counts h in one pass over
  * the buckets (and one more when the sum is known, sum < 0: unknown);
- * 'total' is their sum (the metric's count)
+ * 'total' is their sum (the metric's count). Only [b0, b1] is read: every
+ * count outside it is 0 (h may be unset there).
  */
-static void hist_quantiles(const __u64 *h, __u64 total, double sum, const double *q,
-			   __u64 *out, int n, __u64 min, __u64 max)
+static void hist_quantiles(const __u64 *h, int b0, int b1, __u64 total, double sum,
+			   const double *q, __u64 *out, int n, __u64 min, __u64 max)
 {
 	struct hist_pre pre = { .sum = sum };
 	__u64 acc = 0, rank;
-	int b = 0, i;
+	int b = b0, i;
 
-	hist_pre_scan(&pre, h, min, max);
+	hist_pre_scan(&pre, h, b0, b1, min, max);
 	for (i = 0; i < n; i++) {
 		/* nearest rank, as a sorted array would give it */
 		rank = (__u64)ceil(q[i] * (double)total);
@@ -103,12 +105,12 @@ static void hist_quantiles(const __u64 *h, __u64 total, double sum, const double
 			out[i] = max;
 			continue;
 		}
-		for (; b < HIST_BUCKETS; b++) {
+		for (; b <= b1; b++) {
 			if (acc + h[b] >= rank)
 				break;
 			acc += h[b];
 		}
-		if (b == HIST_BUCKETS) {	/* counts short of total: a torn read */
+		if (b > b1) {	/* counts short of total: a torn read */
 			out[i] = max;
 			continue;
 		}
@@ -123,6 +125,68 @@ void hist_delta(const __u32 *cur, const __u32 *prev, __u64 *out)
 	/* u32 arithmetic: right modulo 2^32 when a bucket wrapped in between */
 	for (b = 0; b < HIST_BUCKETS; b++)
 		out[b] = (__u32)(cur[b] - (prev ? prev[b] : 0));
+}
+
+#define DELTA_BLOCK 8
+
+/* same_block - DELTA_BLOCK counts of a equal those of b; no branch inside */
+static bool same_block(const __u32 *a, const __u32 *b)
+{
+	__u32 x = 0;
+	int k;
+
+	for (k = 0; k < DELTA_BLOCK; k++)
+		x |= a[k] ^ b[k];
+	return !x;
+}
+
+/*
+ * delta_range - the buckets where cur and prev (NULL: zero) differ lie in
+ * [*lo, *hi] (empty: *lo > *hi). Scanned from both ends: an interval's
+ * values fill a few neighbouring buckets, so this is about one compare a
+ * bucket, and what follows works on the few in between.
+ */
+static void delta_range(const __u32 *cur, const __u32 *prev, int *lo, int *hi)
+{
+	static const __u32 zero[HIST_BUCKETS];
+	int a = 0, b = HIST_BUCKETS;
+
+	if (!prev)
+		prev = zero;
+	/* whole blocks first: a compare the compiler makes one vector op */
+	while (a + DELTA_BLOCK <= b && same_block(cur + a, prev + a))
+		a += DELTA_BLOCK;
+	while (b - DELTA_BLOCK >= a && same_block(cur + b - DELTA_BLOCK, prev + b - DELTA_BLOCK))
+		b -= DELTA_BLOCK;
+	b--;
+	while (a <= b && cur[a] == prev[a])
+		a++;
+	while (b > a && cur[b] == prev[b])
+		b--;
+	*lo = a;
+	*hi = b;
+}
+
+/* delta_in - hist_delta over [lo, hi] only */
+static void delta_in(const __u32 *cur, const __u32 *prev, int lo, int hi, __u64 *out)
+{
+	int b;
+
+	for (b = lo; b <= hi; b++)
+		out[b] = (__u32)(cur[b] - (prev ? prev[b] : 0));
+}
+
+/* nonzero_range - the buckets of h that are not 0 lie in [*lo, *hi] */
+static void nonzero_range(const __u64 *h, int *lo, int *hi)
+{
+	int a = 0, b = HIST_BUCKETS - 1;
+
+	while (a <= b && !h[a])
+		a++;
+	while (b > a && !h[b])
+		b--;
+	*lo = a;
+	*hi = b;
 }
 
 __u64 hist_percentile(const __u32 *cur, const __u32 *prev, double q, __u64 min,
@@ -143,27 +207,26 @@ __u64 hist_percentile64(const __u64 *h, double q, __u64 min, __u64 max)
 		total += h[b];
 	if (!total)
 		return 0;
-	hist_quantiles(h, total, -1, &q, &out, 1, min, max);
+	hist_quantiles(h, 0, HIST_BUCKETS - 1, total, -1, &q, &out, 1, min, max);
 	return out;
 }
 
-/* view_quantiles - p50, p99 and p99.9 of a view; sum: of its values */
-static void view_quantiles(const __u64 *h, __u64 sum, struct metric_view *v)
+/* view_quantiles - p50, p99 and p99.9 of a view; sum: of its values in [b0, b1] */
+static void view_quantiles(const __u64 *h, int b0, int b1, __u64 sum, struct metric_view *v)
 {
 	static const double q[3] = { 0.50, 0.99, 0.999 };
 	__u64 out[3];
 
-	hist_quantiles(h, v->count, (double)sum, q, out, 3, v->min, v->max);
+	hist_quantiles(h, b0, b1, v->count, (double)sum, q, out, 3, v->min, v->max);
 	v->p50 = out[0];
 	v->p99 = out[1];
 	v->p999 = out[2];
 }
 
-void metric_view_counts(const struct rtsup_metric_stats *s, const __u64 *h,
-			     struct metric_view *v)
+/* view_counts - metric_view_counts with h's non-zero buckets in [lo, hi] */
+static void view_counts(const struct rtsup_metric_stats *s, const __u64 *h, int lo, int hi,
+			struct metric_view *v)
 {
-	__u64 tmp[HIST_BUCKETS];
-
 	memset(v, 0, sizeof(*v));
 	v->count = s->count;
 	if (!s->count)
@@ -172,11 +235,23 @@ void metric_view_counts(const struct rtsup_metric_stats *s, const __u64 *h,
 	v->max = s->max;
 	v->mean = (double)s->sum / (double)s->count;
 	v->ewma = (double)s->ewma / (1 << RTSUP_EWMA_SHIFT);
-	if (!h) {
-		hist_delta(s->hist, NULL, tmp);
+	view_quantiles(h, lo, hi, s->sum, v);
+}
+
+void metric_view_counts(const struct rtsup_metric_stats *s, const __u64 *h,
+			     struct metric_view *v)
+{
+	__u64 tmp[HIST_BUCKETS];
+	int lo, hi;
+
+	if (h) {
+		nonzero_range(h, &lo, &hi);
+	} else {
+		delta_range(s->hist, NULL, &lo, &hi);
+		delta_in(s->hist, NULL, lo, hi, tmp);
 		h = tmp;
 	}
-	view_quantiles(h, s->sum, v);
+	view_counts(s, h, lo, hi, v);
 }
 
 void metric_view_life(const struct rtsup_metric_stats *s, struct metric_view *v)
@@ -184,15 +259,15 @@ void metric_view_life(const struct rtsup_metric_stats *s, struct metric_view *v)
 	metric_view_counts(s, NULL, v);
 }
 
-void metric_view_window(const struct rtsup_metric_stats *cur,
-			const struct rtsup_metric_stats *prev, __u32 bank,
-			struct metric_view *v)
+/* window_counts - metric_view_window from the interval's counts h, non-zero in [lo, hi] */
+static void window_counts(const struct rtsup_metric_stats *cur,
+			  const struct rtsup_metric_stats *prev, __u32 bank, const __u64 *h,
+			  int lo, int hi, struct metric_view *v)
 {
 	const struct rtsup_minmax *mm = &cur->win[RTSUP_BANK(bank)];
-	__u64 h[HIST_BUCKETS];
 
-	if (!prev) {
-		metric_view_life(cur, v);
+	if (!prev) {	/* since zero: the kernel's lifetime */
+		view_counts(cur, h, lo, hi, v);
 		return;
 	}
 	memset(v, 0, sizeof(*v));
@@ -203,8 +278,19 @@ void metric_view_window(const struct rtsup_metric_stats *cur,
 	v->max = mm->max;
 	v->mean = (double)(cur->sum - prev->sum) / (double)v->count;
 	v->ewma = (double)cur->ewma / (1 << RTSUP_EWMA_SHIFT);
-	hist_delta(cur->hist, prev->hist, h);
-	view_quantiles(h, cur->sum - prev->sum, v);
+	view_quantiles(h, lo, hi, cur->sum - prev->sum, v);
+}
+
+void metric_view_window(const struct rtsup_metric_stats *cur,
+			const struct rtsup_metric_stats *prev, __u32 bank,
+			struct metric_view *v)
+{
+	__u64 h[HIST_BUCKETS];
+	int lo, hi;
+
+	delta_range(cur->hist, prev ? prev->hist : NULL, &lo, &hi);
+	delta_in(cur->hist, prev ? prev->hist : NULL, lo, hi, h);
+	window_counts(cur, prev, bank, h, lo, hi, v);
 }
 
 /*
@@ -266,6 +352,28 @@ void span_window(const struct rtsup_thread *cur, const struct rtsup_thread *prev
 		metric_view_window(&cur->m[i], prev ? &prev->m[i] : NULL, bank, &s->m[i]);
 }
 
+/* life_reset - every count 0 */
+static void life_reset(struct life_hist *l)
+{
+	int i;
+
+	memset(l, 0, sizeof(*l));
+	for (i = 0; i < RTSUP_M_NR; i++) {
+		l->lo[i] = l->wlo[i] = HIST_BUCKETS;
+		l->hi[i] = l->whi[i] = -1;
+	}
+}
+
+/* win_clear - the last interval's counts of metric i back to 0 */
+static void win_clear(struct life_hist *l, int i)
+{
+	if (l->wlo[i] <= l->whi[i])
+		memset(&l->win[i][l->wlo[i]], 0,
+		       (size_t)(l->whi[i] - l->wlo[i] + 1) * sizeof(l->win[i][0]));
+	l->wlo[i] = HIST_BUCKETS;
+	l->whi[i] = -1;
+}
+
 /*
  * life_add - add the interval's bucket counts to the u64 lifetime ones.
  * The kernel's __u32 buckets wrap after 2^32 values (49 days at 1 kHz in
@@ -278,26 +386,40 @@ void span_window(const struct rtsup_thread *cur, const struct rtsup_thread *prev
 static int life_add(struct thread_model *tm, const struct rtsup_thread *t,
 		    const struct rtsup_thread *prev)
 {
-	__u64 d[HIST_BUCKETS];
-	int i, b;
+	struct life_hist *l = tm->life_hist;
+	int i, b, lo, hi;
 
-	if (!tm->life_hist && !t->cycles)
+	if (!l && !t->cycles)
 		return -1;
-	if (!tm->life_hist) {
-		tm->life_hist = calloc(1, sizeof(*tm->life_hist));
-		if (!tm->life_hist)
+	if (!l) {
+		l = tm->life_hist = malloc(sizeof(*l));
+		if (!l)
 			return -1;
+		life_reset(l);
 	}
 	/* the kernel dropped the start-up statistics: so does the lifetime */
 	prev = snapshot_base(t, prev);
 	if (!prev)
-		memset(tm->life_hist, 0, sizeof(*tm->life_hist));
+		life_reset(l);
 	for (i = 0; i < RTSUP_M_NR; i++) {
-		hist_delta(t->m[i].hist, prev ? prev->m[i].hist : NULL, d);
-		for (b = 0; b < HIST_BUCKETS; b++) {
-			tm->life_hist->h[i][b] += d[b];
-			tm->life_hist->win[i][b] = (__u32)d[b];
+		const __u32 *c = t->m[i].hist, *p = prev ? prev->m[i].hist : NULL;
+
+		win_clear(l, i);
+		delta_range(c, p, &lo, &hi);
+		for (b = lo; b <= hi; b++) {
+			__u32 d = c[b] - (p ? p[b] : 0);	/* modulo 2^32, above */
+
+			l->h[i][b] += d;
+			l->win[i][b] = d;
 		}
+		if (lo > hi)
+			continue;
+		l->wlo[i] = (__s16)lo;
+		l->whi[i] = (__s16)hi;
+		if (lo < l->lo[i])
+			l->lo[i] = (__s16)lo;
+		if (hi > l->hi[i])
+			l->hi[i] = (__s16)hi;
 	}
 	return 0;
 }
@@ -305,13 +427,28 @@ static int life_add(struct thread_model *tm, const struct rtsup_thread *t,
 void model_views(struct thread_model *tm, const struct rtsup_thread *t,
 		 const struct rtsup_thread *prev, __u32 bank)
 {
-	bool have = !life_add(tm, t, prev);
+	const struct rtsup_thread *base;
+	struct life_hist *l;
+	__u64 h[HIST_BUCKETS];
 	int i;
 
-	span_window(t, prev, bank, &tm->win);
+	if (life_add(tm, t, prev)) {	/* no lifetime counts: the kernel's buckets */
+		span_window(t, prev, bank, &tm->win);
+		span_life(t, &tm->life);
+		return;
+	}
+	l = tm->life_hist;
+	base = snapshot_base(t, prev);
+	span_counters(t, base, &tm->win);
 	span_counters(t, NULL, &tm->life);
-	for (i = 0; i < RTSUP_M_NR; i++)
-		metric_view_counts(&t->m[i], have ? tm->life_hist->h[i] : NULL, &tm->life.m[i]);
+	for (i = 0; i < RTSUP_M_NR; i++) {
+		/* the interval's counts, just written by life_add */
+		for (int b = l->wlo[i]; b <= l->whi[i]; b++)
+			h[b] = l->win[i][b];
+		window_counts(&t->m[i], base ? &base->m[i] : NULL, bank, h, l->wlo[i], l->whi[i],
+			      &tm->win.m[i]);
+		view_counts(&t->m[i], l->h[i], l->lo[i], l->hi[i], &tm->life.m[i]);
+	}
 }
 
 void model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank)
@@ -322,9 +459,12 @@ void model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank
 
 void model_idle(struct thread_model *tm)
 {
+	int i;
+
 	memset(&tm->win, 0, sizeof(tm->win));
 	if (tm->life_hist)
-		memset(tm->life_hist->win, 0, sizeof(tm->life_hist->win));
+		for (i = 0; i < RTSUP_M_NR; i++)
+			win_clear(tm->life_hist, i);
 }
 
 /* find - binary search in the tid-sorted array */

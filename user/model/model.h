@@ -16,10 +16,15 @@
  * Lifetime bucket counts of a thread's metrics, summed from interval
  * differences: the kernel's __u32 buckets wrap, these do not. And the last
  * interval's counts, for the histograms of an interval (--hist-interval).
+ * Every count outside [lo, hi] (of h) and [wlo, whi] (of win) is 0: an
+ * interval touches a few of the 280 buckets, and the model's work per
+ * thread is kept to those (empty: lo > hi).
  */
 struct life_hist {
 	__u64 h[RTSUP_M_NR][HIST_BUCKETS];
 	__u32 win[RTSUP_M_NR][HIST_BUCKETS];
+	__s16 lo[RTSUP_M_NR], hi[RTSUP_M_NR];
+	__s16 wlo[RTSUP_M_NR], whi[RTSUP_M_NR];
 };
 
 /* One metric, in ns, over a window or a lifetime. */

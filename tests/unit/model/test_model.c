@@ -476,6 +476,87 @@ static void test_model_set_snapshots(void **state)
 	model_free(&m);
 }
 
+/* check_views - tm against the snapshots: every bucket, and the public views */
+static void check_views(const struct thread_model *tm, const struct rtsup_thread *cur,
+			const struct rtsup_thread *base, __u64 (*life)[HIST_BUCKETS],
+			__u32 bank)
+{
+	struct metric_view v;
+	int i, b;
+
+	for (i = 0; i < RTSUP_M_NR; i++) {
+		for (b = 0; b < HIST_BUCKETS; b++) {
+			__u32 d = cur->m[i].hist[b] - (base ? base->m[i].hist[b] : 0);
+
+			assert_int_equal(tm->life_hist->win[i][b], d);
+			assert_int_equal(tm->life_hist->h[i][b], life[i][b]);
+			if (d)
+				assert_true(tm->life_hist->wlo[i] <= b && b <= tm->life_hist->whi[i]);
+			if (life[i][b])
+				assert_true(tm->life_hist->lo[i] <= b && b <= tm->life_hist->hi[i]);
+		}
+		metric_view_window(&cur->m[i], base ? &base->m[i] : NULL, bank, &v);
+		assert_memory_equal(&tm->win.m[i], &v, sizeof(v));
+		metric_view_counts(&cur->m[i], life[i], &v);
+		assert_memory_equal(&tm->life.m[i], &v, sizeof(v));
+	}
+}
+
+/*
+ * model_set works on the buckets an interval touched only: as the values
+ * move (10 us, 5 ms, an idle interval, 50 us, a restart of the kernel's
+ * statistics, 2 ms), every one of the 280 buckets of the interval and the
+ * lifetime still holds what the snapshots say, and the views are those of
+ * the full computation.
+ */
+static void test_model_views_follow_moving_buckets(void **state)
+{
+	static const __u64 exec[] = { 10 * US, 5 * MS, 0, 50 * US, 0, 2 * MS };
+	static __u64 life[RTSUP_M_NR][HIST_BUCKETS];
+	struct tfx *t = *state;
+	struct model m = { 0 };
+	struct thread_model *tm = model_get(&m, 42, true);
+	struct rtsup_thread prev;
+	bool have_prev = false;
+	__u32 bank;
+	int k, i, b;
+
+	assert_non_null(tm);
+	memset(life, 0, sizeof(life));
+	t->cur.first_seen = 7;
+	for (k = 0; k < (int)(sizeof(exec) / sizeof(exec[0])); k++) {
+		bank = (__u32)k & 1;
+		if (k == 2) {	/* an interval without a snapshot */
+			model_idle(tm);
+			for (i = 0; i < RTSUP_M_NR; i++)
+				for (b = 0; b < HIST_BUCKETS; b++)
+					assert_int_equal(tm->life_hist->win[i][b], 0);
+			assert_int_equal(tm->win.m[RTSUP_M_EXEC].count, 0);
+			continue;
+		}
+		if (k == 4) {	/* the kernel restarted the statistics */
+			for (i = 0; i < RTSUP_M_NR; i++)
+				metric_init(&t->cur.m[i]);
+			t->cur.resets++;
+			memset(life, 0, sizeof(life));
+			have_prev = false;
+			add_cycles(&t->cur, 7, 900 * US, bank);
+		} else {
+			minmax_reset(&t->cur.m[RTSUP_M_EXEC].win[bank]);
+			add_cycles(&t->cur, 10 + k, exec[k], bank);
+		}
+		for (i = 0; i < RTSUP_M_NR; i++)
+			for (b = 0; b < HIST_BUCKETS; b++)
+				life[i][b] += (__u32)(t->cur.m[i].hist[b] -
+						      (have_prev ? prev.m[i].hist[b] : 0));
+		model_set(tm, &t->cur, bank);
+		check_views(tm, &t->cur, have_prev ? &prev : NULL, life, bank);
+		prev = t->cur;
+		have_prev = true;
+	}
+	model_free(&m);
+}
+
 /*
  * A bucket that wraps between two snapshots (0xFFFFFFF0 -> 0x10) adds 0x20
  * to the lifetime count; a year at 1 kHz keeps its percentiles.
@@ -759,6 +840,7 @@ int main(void)
 		TS(test_model_span_window_restart_more_cycles),
 		TS(test_model_set_snapshots),
 		TS(test_model_life_hist_wrap),
+		TS(test_model_views_follow_moving_buckets),
 		M(test_model_get_sorted),
 		M(test_model_entries_do_not_move),
 		M(test_model_remove),
