@@ -500,7 +500,7 @@ def render(r, res, made):
                   % (GUEST_LABEL[v], (1 - med(ratio)) * 100, len(ratio), (1 - max(ratio)) * 100,
                      (1 - min(ratio)) * 100, yes((1 - med(ratio)) * 100 <= T_CAN_PCT)))
     us = res.get("userspace", [])
-    for mode in ("table", "json"):
+    for mode in ("table", "json", "prom"):
         uu = [u for u in us if u.get("output", "json") == mode]
         if not uu:
             continue

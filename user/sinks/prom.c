@@ -50,32 +50,69 @@ static bool grow(struct prom_buf *b, size_t n)
 	return true;
 }
 
+/* put - n bytes of raw text */
+static void put(struct prom_buf *b, const char *s, size_t n)
+{
+	if (!grow(b, n))
+		return;
+	memcpy(b->p + b->len, s, n);
+	b->len += n;
+}
+
+static void puts_(struct prom_buf *b, const char *s)
+{
+	put(b, s, strlen(s));
+}
+
 void prom_printf(struct prom_buf *b, const char *fmt, ...)
 {
 	va_list ap;
 	int n;
 
-	va_start(ap, fmt);
-	n = vsnprintf(NULL, 0, fmt, ap);
-	va_end(ap);
-	if (n < 0 || !grow(b, n))
+	/* once into the room there is; again only when it did not fit */
+	if (!grow(b, 64))
 		return;
 	va_start(ap, fmt);
-	vsnprintf(b->p + b->len, n + 1, fmt, ap);
+	n = vsnprintf(b->p + b->len, b->cap - b->len, fmt, ap);
 	va_end(ap);
+	if (n < 0)
+		return;
+	if ((size_t)n >= b->cap - b->len) {
+		if (!grow(b, n))
+			return;
+		va_start(ap, fmt);
+		vsnprintf(b->p + b->len, n + 1, fmt, ap);
+		va_end(ap);
+	}
 	b->len += n;
+}
+
+/* put_u64 - v in decimal */
+static void put_u64(struct prom_buf *b, unsigned long long v)
+{
+	char d[24];
+	int i = sizeof(d);
+
+	do {
+		d[--i] = (char)('0' + v % 10);
+		v /= 10;
+	} while (v);
+	put(b, d + i, sizeof(d) - i);
 }
 
 /* put_escaped - a label value: backslash, double quote and newline escaped */
 static void put_escaped(struct prom_buf *b, const char *s)
 {
-	for (; *s; s++) {
-		if (*s == '\\' || *s == '"')
-			prom_printf(b, "\\%c", *s);
-		else if (*s == '\n')
-			prom_printf(b, "\\n");
-		else
-			prom_printf(b, "%c", *s);
+	size_t n;
+
+	for (;;) {
+		n = strcspn(s, "\\\"\n");
+		put(b, s, n);
+		s += n;
+		if (!*s)
+			return;
+		put(b, *s == '\n' ? "\\n" : *s == '"' ? "\\\"" : "\\\\", 2);
+		s++;
 	}
 }
 
@@ -84,53 +121,197 @@ void prom_family(struct prom_buf *b, const char *name, const char *type, const c
 	prom_printf(b, "# HELP %s %s\n# TYPE %s %s\n", name, help, name, type);
 }
 
-/* put_labels - {k="v",...} from a NULL-terminated list plus an optional extra pair */
-static void put_labels(struct prom_buf *b, const char *const *labels, const char *k,
-		       const char *v)
+/* put_labels - {k="v",...} from a NULL-terminated list */
+static void put_labels(struct prom_buf *b, const char *const *labels)
 {
-	bool first = true;
 	int i;
 
-	if ((!labels || !labels[0]) && !k)
+	if (!labels || !labels[0])
 		return;
-	prom_printf(b, "{");
-	for (i = 0; labels && labels[i] && labels[i + 1]; i += 2) {
-		prom_printf(b, "%s%s=\"", first ? "" : ",", labels[i]);
+	put(b, "{", 1);
+	for (i = 0; labels[i] && labels[i + 1]; i += 2) {
+		if (i)
+			put(b, ",", 1);
+		puts_(b, labels[i]);
+		put(b, "=\"", 2);
 		put_escaped(b, labels[i + 1]);
-		prom_printf(b, "\"");
-		first = false;
+		put(b, "\"", 1);
 	}
-	if (k) {
-		prom_printf(b, "%s%s=\"", first ? "" : ",", k);
-		put_escaped(b, v);
-		prom_printf(b, "\"");
-	}
-	prom_printf(b, "}");
+	put(b, "}", 1);
 }
 
 /* put_value - integers exactly, other numbers with full precision */
 static void put_value(struct prom_buf *b, double v)
 {
-	if (v >= 0 && v < 9007199254740992.0 && v == (double)(unsigned long long)v)
-		prom_printf(b, " %llu\n", (unsigned long long)v);
-	else
+	if (v >= 0 && v < 9007199254740992.0 && v == (double)(unsigned long long)v) {
+		put(b, " ", 1);
+		put_u64(b, (unsigned long long)v);
+		put(b, "\n", 1);
+	} else {
 		prom_printf(b, " %.17g\n", v);
+	}
+}
+
+/*
+ * put_seconds - ns as seconds, the exact decimal: it reads back as the
+ * same double as ns / 1e9 (both are that decimal, correctly rounded)
+ */
+static void put_seconds(struct prom_buf *b, __u64 ns)
+{
+	char f[10];
+	__u64 frac = ns % 1000000000;
+	int n = 9;
+
+	put(b, " ", 1);
+	put_u64(b, ns / 1000000000);
+	if (frac) {
+		for (int i = 8; i >= 0; i--, frac /= 10)
+			f[i] = (char)('0' + frac % 10);
+		while (f[n - 1] == '0')
+			n--;
+		put(b, ".", 1);
+		put(b, f, n);
+	}
+	put(b, "\n", 1);
 }
 
 void prom_sample(struct prom_buf *b, const char *name, double value, const char *const *labels)
 {
-	prom_printf(b, "%s", name);
-	put_labels(b, labels, NULL, NULL);
+	puts_(b, name);
+	put_labels(b, labels);
 	put_value(b, value);
 }
 
-/* sample_kv - one sample with one more label than the thread's */
-static void sample_kv(struct prom_buf *b, const char *name, double value,
-		      const char *const *labels, const char *k, const char *v)
+/*
+ * A thread's labels, rendered once per exposition (every family repeats
+ * them): 'lab' is comm="..",tid="..",tgid="..",process="..", 'comp' is
+ * component="comm[tid]"; both escaped, offsets into one text.
+ */
+struct tlab {
+	size_t lab, lab_len, comp, comp_len;
+};
+
+struct tlabels {
+	struct prom_buf text;
+	struct tlab *t;	/* per model thread */
+};
+
+static void put_thread_labels(struct prom_buf *b, const struct thread_model *tm,
+			      struct tlab *t)
 {
-	prom_printf(b, "%s", name);
-	put_labels(b, labels, k, v);
+	char comp[48];
+
+	t->lab = b->len;
+	put(b, "comm=\"", 6);
+	put_escaped(b, tm->comm);
+	put(b, "\",tid=\"", 7);
+	put_u64(b, tm->tid);
+	put(b, "\",tgid=\"", 8);
+	put_u64(b, tm->tgid);
+	put(b, "\",process=\"", 11);
+	put_escaped(b, tm->pcomm[0] ? tm->pcomm : tm->comm);
+	put(b, "\"", 1);
+	t->lab_len = b->len - t->lab;
+	t->comp = b->len;
+	snprintf(comp, sizeof(comp), "%s[%u]", tm->comm, tm->tid);
+	put(b, "component=\"", 11);
+	put_escaped(b, comp);
+	put(b, "\"", 1);
+	t->comp_len = b->len - t->comp;
+}
+
+static int tlabels_make(struct tlabels *tl, const struct model *m)
+{
+	int i;
+
+	memset(tl, 0, sizeof(*tl));
+	tl->t = calloc(m->n ? m->n : 1, sizeof(*tl->t));
+	if (!tl->t)
+		return -1;
+	for (i = 0; i < m->n; i++)
+		put_thread_labels(&tl->text, m->t[i], &tl->t[i]);
+	return tl->text.oom ? -1 : 0;
+}
+
+static void tlabels_free(struct tlabels *tl)
+{
+	prom_buf_free(&tl->text);
+	free(tl->t);
+}
+
+/* put_lab - thread i's label text, with the component label first when 'comp' */
+static void put_lab(struct prom_buf *b, const struct tlabels *tl, int i, bool comp)
+{
+	if (comp) {
+		put(b, tl->text.p + tl->t[i].comp, tl->t[i].comp_len);
+		put(b, ",", 1);
+	}
+	put(b, tl->text.p + tl->t[i].lab, tl->t[i].lab_len);
+}
+
+/* sample_t - one sample of thread i, its labels (and the component one when 'comp') */
+static void sample_t(struct prom_buf *b, const char *name, double value,
+		     const struct tlabels *tl, int i, bool comp)
+{
+	puts_(b, name);
+	put(b, "{", 1);
+	put_lab(b, tl, i, comp);
+	put(b, "}", 1);
 	put_value(b, value);
+}
+
+/* kv_open - name{thread i's labels,k="v" (the value and '}' left to the caller) */
+static void kv_open(struct prom_buf *b, const char *name, const struct tlabels *tl, int i,
+		    const char *k, const char *v)
+{
+	puts_(b, name);
+	put(b, "{", 1);
+	put_lab(b, tl, i, false);
+	put(b, ",", 1);
+	puts_(b, k);
+	put(b, "=\"", 2);
+	put_escaped(b, v);
+	put(b, "\"}", 2);
+}
+
+/* sample_kv - one sample of thread i with one more label than the thread's */
+static void sample_kv(struct prom_buf *b, const char *name, double value,
+		      const struct tlabels *tl, int i, const char *k, const char *v)
+{
+	kv_open(b, name, tl, i, k, v);
+	put_value(b, value);
+}
+
+/* le_text - the "le" label of bound k, as "%g" of seconds writes it */
+static const char *le_text(size_t k)
+{
+	static char text[NLE][16];
+
+	if (!text[k][0])
+		snprintf(text[k], sizeof(text[k]), "%g", le_ns[k] / 1e9);
+	return text[k];
+}
+
+/*
+ * le_below - the kernel buckets wholly at or below bound k are those before
+ * this one (HIST_BUCKETS: all of them)
+ */
+static int le_below(size_t k)
+{
+	static int first[NLE];
+	static bool done;
+
+	if (!done) {
+		for (size_t j = 0; j < NLE; j++) {
+			int i = 0;
+
+			while (i < HIST_BUCKETS && hist_bucket_high(i) <= le_ns[j])
+				i++;
+			first[j] = i;
+		}
+		done = true;
+	}
+	return first[k];
 }
 
 /*
@@ -141,40 +322,38 @@ static void sample_kv(struct prom_buf *b, const char *name, double value,
  * __u32 buckets: those wrap, and a Prometheus histogram never decreases.
  */
 static void put_histogram(struct prom_buf *b, const char *name, const struct thread_model *tm,
-			  int metric, const char *const *labels)
+			  int metric, const struct tlabels *tl, int ti)
 {
 	const struct rtsup_metric_stats *st = &tm->cur.m[metric];
 	__u64 own[HIST_BUCKETS], cum = 0;
 	const __u64 *h = own;
-	char bucket[96], le[32];
-	size_t k = 0;
-	__u32 i;
+	char bucket[96], suffix[96];
+	int i, lo = 0, hi = HIST_BUCKETS - 1;
+	size_t k;
 
-	if (tm->life_hist)
+	if (tm->life_hist) {	/* its counts outside [lo, hi] are 0 */
 		h = tm->life_hist->h[metric];
-	else
+		lo = tm->life_hist->lo[metric];
+		hi = tm->life_hist->hi[metric];
+	} else {
 		hist_delta(st->hist, NULL, own);
+	}
 
 	snprintf(bucket, sizeof(bucket), "%s_bucket", name);
-	for (i = 0; i < HIST_BUCKETS && k < NLE; i++) {
-		while (k < NLE && hist_bucket_high(i) > le_ns[k]) {
-			snprintf(le, sizeof(le), "%g", le_ns[k] / 1e9);
-			sample_kv(b, bucket, cum < st->count ? cum : st->count, labels, "le", le);
-			k++;
-		}
-		cum += h[i];
+	for (k = 0, i = lo; k < NLE; k++) {
+		for (; i < le_below(k) && i <= hi; i++)
+			cum += h[i];
+		sample_kv(b, bucket, cum < st->count ? cum : st->count, tl, ti, "le", le_text(k));
 	}
-	for (; k < NLE; k++) {
-		snprintf(le, sizeof(le), "%g", le_ns[k] / 1e9);
-		sample_kv(b, bucket, cum < st->count ? cum : st->count, labels, "le", le);
-	}
-	sample_kv(b, bucket, st->count, labels, "le", "+Inf");
-	prom_printf(b, "%s_sum", name);
-	put_labels(b, labels, NULL, NULL);
+	sample_kv(b, bucket, st->count, tl, ti, "le", "+Inf");
+	snprintf(suffix, sizeof(suffix), "%s_sum", name);
+	puts_(b, suffix);
+	put(b, "{", 1);
+	put_lab(b, tl, ti, false);
+	put(b, "}", 1);
 	prom_printf(b, " %.9f\n", st->sum / 1e9);
-	prom_printf(b, "%s_count", name);
-	put_labels(b, labels, NULL, NULL);
-	put_value(b, st->count);
+	snprintf(suffix, sizeof(suffix), "%s_count", name);
+	sample_t(b, suffix, st->count, tl, ti, false);
 }
 
 /*
@@ -185,27 +364,6 @@ static void put_histogram(struct prom_buf *b, const char *name, const struct thr
 static bool exported(const struct thread_model *tm)
 {
 	return tm->alive || (!tm->replaced && (tm->was_rt || tm->rule >= 0));
-}
-
-/* One thread's labels, kept in one place for every family. */
-struct tlabels {
-	char tid[16], tgid[16], comp[48];
-	const char *l[12];	/* comm, tid, tgid, process */
-	const char *sl[12];	/* component first, then the same */
-};
-
-static void thread_labels(const struct thread_model *tm, struct tlabels *t)
-{
-	snprintf(t->tid, sizeof(t->tid), "%u", tm->tid);
-	snprintf(t->tgid, sizeof(t->tgid), "%u", tm->tgid);
-	snprintf(t->comp, sizeof(t->comp), "%s[%u]", tm->comm, tm->tid);
-	t->l[0] = "comm"; t->l[1] = tm->comm;
-	t->l[2] = "tid"; t->l[3] = t->tid;
-	t->l[4] = "tgid"; t->l[5] = t->tgid;
-	t->l[6] = "process"; t->l[7] = tm->pcomm[0] ? tm->pcomm : tm->comm;
-	t->l[8] = NULL;
-	t->sl[0] = "component"; t->sl[1] = t->comp;
-	memcpy(&t->sl[2], t->l, 9 * sizeof(t->l[0]));
 }
 
 /* Per-thread counter families: name, help, and where the value is. */
@@ -241,6 +399,35 @@ static __u64 tcounter_value(const struct span_view *s, enum tcounter c)
 	}
 }
 
+/* put_info - rtsup_thread_info of thread i: its labels, then policy, priority, cpus, rule */
+static void put_info(struct prom_buf *b, const struct prom_in *in, const struct tlabels *tl,
+		     int i)
+{
+	const struct thread_model *tm = in->m->t[i];
+	const char *rule = "";
+	char prio[16];
+	const char *const more[] = {
+		"policy", policy_name(tm->policy), "priority", prio,
+		"cpus", tm->cpus[0] ? tm->cpus : "-", "rule", NULL,
+	};
+	int k;
+
+	snprintf(prio, sizeof(prio), "%d", tm->prio);
+	if (tm->rule >= 0 && tm->rule_gen == in->s->gen && tm->rule < in->s->cfg.nrules)
+		rule = in->s->cfg.rules[tm->rule].name;
+	puts_(b, "rtsup_thread_info{");
+	put_lab(b, tl, i, false);
+	for (k = 0; k < 8; k += 2) {
+		put(b, ",", 1);
+		puts_(b, more[k]);
+		put(b, "=\"", 2);
+		put_escaped(b, k == 6 ? rule : more[k + 1]);
+		put(b, "\"", 1);
+	}
+	put(b, "}", 1);
+	put_value(b, 1);
+}
+
 /* render_threads - every per-thread family, one family at a time */
 static void render_threads(const struct prom_in *in, struct prom_buf *b)
 {
@@ -252,59 +439,40 @@ static void render_threads(const struct prom_in *in, struct prom_buf *b)
 	struct tlabels tl;
 	int i, k, c;
 
+	if (tlabels_make(&tl, m)) {
+		tlabels_free(&tl);
+		b->oom = true;
+		return;
+	}
 	prom_family(b, "rtsup_component_status", "gauge",
 		    "Verdict of the last interval: 0 OK, 1 WARN, 2 ERROR, 3 STALE.");
 	prom_sample(b, "rtsup_component_status", prom_level_value(in->s->self.level),
 		    (const char *const[]){ "component", "rtsup-trace", NULL });
-	for (i = 0; i < m->n; i++) {
-		if (!exported(m->t[i]))
-			continue;
-		thread_labels(m->t[i], &tl);
-		prom_sample(b, "rtsup_component_status", prom_level_value(m->t[i]->st.level),
-			    tl.sl);
-	}
+	for (i = 0; i < m->n; i++)
+		if (exported(m->t[i]))
+			sample_t(b, "rtsup_component_status", prom_level_value(m->t[i]->st.level),
+				 &tl, i, true);
 	prom_family(b, "rtsup_component_worst_status", "gauge",
 		    "Worst verdict since the start: 0 OK, 1 WARN, 2 ERROR, 3 STALE.");
 	prom_sample(b, "rtsup_component_worst_status", prom_level_value(in->s->self_worst),
 		    (const char *const[]){ "component", "rtsup-trace", NULL });
-	for (i = 0; i < m->n; i++) {
-		if (!exported(m->t[i]))
-			continue;
-		thread_labels(m->t[i], &tl);
-		prom_sample(b, "rtsup_component_worst_status", prom_level_value(m->t[i]->worst),
-			    tl.sl);
-	}
+	for (i = 0; i < m->n; i++)
+		if (exported(m->t[i]))
+			sample_t(b, "rtsup_component_worst_status", prom_level_value(m->t[i]->worst),
+				 &tl, i, true);
 
 	prom_family(b, "rtsup_thread_info", "gauge",
 		    "Always 1: scheduling policy, RT priority, allowed CPUs and rule of a thread.");
-	for (i = 0; i < m->n; i++) {
-		const struct thread_model *tm = m->t[i];
-		const char *rule = "", *l[17];
-		char prio[16];
-
-		if (!exported(tm))
-			continue;
-		thread_labels(tm, &tl);
-		snprintf(prio, sizeof(prio), "%d", tm->prio);
-		if (tm->rule >= 0 && tm->rule_gen == in->s->gen && tm->rule < in->s->cfg.nrules)
-			rule = in->s->cfg.rules[tm->rule].name;
-		memcpy(l, tl.l, 8 * sizeof(l[0]));
-		l[8] = "policy"; l[9] = policy_name(tm->policy);
-		l[10] = "priority"; l[11] = prio;
-		l[12] = "cpus"; l[13] = tm->cpus[0] ? tm->cpus : "-";
-		l[14] = "rule"; l[15] = rule;
-		l[16] = NULL;
-		prom_sample(b, "rtsup_thread_info", 1, l);
-	}
+	for (i = 0; i < m->n; i++)
+		if (exported(m->t[i]))
+			put_info(b, in, &tl, i);
 
 	for (c = 0; c < TC_NR; c++) {
 		prom_family(b, tcounters[c].name, "counter", tcounters[c].help);
-		for (i = 0; i < m->n; i++) {
-			if (!exported(m->t[i]))
-				continue;
-			thread_labels(m->t[i], &tl);
-			prom_sample(b, tcounters[c].name, tcounter_value(&m->t[i]->life, c), tl.l);
-		}
+		for (i = 0; i < m->n; i++)
+			if (exported(m->t[i]))
+				sample_t(b, tcounters[c].name, tcounter_value(&m->t[i]->life, c), &tl,
+					 i, false);
 	}
 
 	prom_family(b, "rtsup_thread_unsafe_events_total", "counter",
@@ -312,10 +480,9 @@ static void render_threads(const struct prom_in *in, struct prom_buf *b)
 	for (i = 0; i < m->n; i++) {
 		if (!exported(m->t[i]))
 			continue;
-		thread_labels(m->t[i], &tl);
 		for (k = 0; k < RTSUP_U_NR; k++)
-			sample_kv(b, "rtsup_thread_unsafe_events_total", m->t[i]->life.unsafe[k], tl.l,
-				  "reason", unsafe_reason_name(k));
+			sample_kv(b, "rtsup_thread_unsafe_events_total", m->t[i]->life.unsafe[k], &tl,
+				  i, "reason", unsafe_reason_name(k));
 	}
 	prom_family(b, "rtsup_thread_unsafe_syscalls_total", "counter",
 		    "RT-unsafe syscalls inside cycles, by name.");
@@ -324,7 +491,6 @@ static void render_threads(const struct prom_in *in, struct prom_buf *b)
 
 		if (!exported(tm))
 			continue;
-		thread_labels(tm, &tl);
 		for (k = 0; k < tm->nsys; k++) {
 			const char *name = syscall_name(tm->sys[k].nr);
 			char buf[16];
@@ -333,7 +499,7 @@ static void render_threads(const struct prom_in *in, struct prom_buf *b)
 				snprintf(buf, sizeof(buf), "sys_%d", tm->sys[k].nr);
 				name = buf;
 			}
-			sample_kv(b, "rtsup_thread_unsafe_syscalls_total", tm->sys[k].total, tl.l,
+			sample_kv(b, "rtsup_thread_unsafe_syscalls_total", tm->sys[k].total, &tl, i,
 				  "syscall", name);
 		}
 	}
@@ -342,49 +508,43 @@ static void render_threads(const struct prom_in *in, struct prom_buf *b)
 	for (i = 0; i < m->n; i++) {
 		if (!exported(m->t[i]))
 			continue;
-		thread_labels(m->t[i], &tl);
-		sample_kv(b, "rtsup_thread_context_switches_total", m->t[i]->life.vol_cs, tl.l, "kind",
-			  "voluntary");
-		sample_kv(b, "rtsup_thread_context_switches_total", m->t[i]->life.invol_cs, tl.l, "kind",
-			  "involuntary");
+		sample_kv(b, "rtsup_thread_context_switches_total", m->t[i]->life.vol_cs, &tl, i,
+			  "kind", "voluntary");
+		sample_kv(b, "rtsup_thread_context_switches_total", m->t[i]->life.invol_cs, &tl, i,
+			  "kind", "involuntary");
 	}
 	prom_family(b, "rtsup_thread_page_faults_total", "counter",
 		    "Page faults inside cycles, minor and major.");
 	for (i = 0; i < m->n; i++) {
 		if (!exported(m->t[i]))
 			continue;
-		thread_labels(m->t[i], &tl);
-		sample_kv(b, "rtsup_thread_page_faults_total", m->t[i]->life.minflt, tl.l, "kind", "minor");
-		sample_kv(b, "rtsup_thread_page_faults_total", m->t[i]->life.majflt, tl.l, "kind", "major");
+		sample_kv(b, "rtsup_thread_page_faults_total", m->t[i]->life.minflt, &tl, i, "kind",
+			  "minor");
+		sample_kv(b, "rtsup_thread_page_faults_total", m->t[i]->life.majflt, &tl, i, "kind",
+			  "major");
 	}
 
 	prom_family(b, "rtsup_thread_latency_seconds", "histogram",
 		    "Wakeup latency per cycle: switch-in minus the expected release.");
-	for (i = 0; i < m->n; i++) {
-		if (!exported(m->t[i]))
-			continue;
-		thread_labels(m->t[i], &tl);
-		put_histogram(b, "rtsup_thread_latency_seconds", m->t[i], RTSUP_M_LATENCY, tl.l);
-	}
+	for (i = 0; i < m->n; i++)
+		if (exported(m->t[i]))
+			put_histogram(b, "rtsup_thread_latency_seconds", m->t[i], RTSUP_M_LATENCY,
+				      &tl, i);
 	prom_family(b, "rtsup_thread_exec_seconds", "histogram",
 		    "Execution time per cycle (wall clock): release to the next delimiter call.");
-	for (i = 0; i < m->n; i++) {
-		if (!exported(m->t[i]))
-			continue;
-		thread_labels(m->t[i], &tl);
-		put_histogram(b, "rtsup_thread_exec_seconds", m->t[i], RTSUP_M_EXEC, tl.l);
-	}
+	for (i = 0; i < m->n; i++)
+		if (exported(m->t[i]))
+			put_histogram(b, "rtsup_thread_exec_seconds", m->t[i], RTSUP_M_EXEC, &tl, i);
 
 	prom_family(b, "rtsup_thread_ewma_seconds", "gauge",
 		    "Exponentially weighted mean per cycle metric (period, exec, cpu, latency).");
 	for (i = 0; i < m->n; i++) {
 		if (!exported(m->t[i]))
 			continue;
-		thread_labels(m->t[i], &tl);
 		for (k = 0; k < RTSUP_M_NR; k++)
 			if (m->t[i]->life.m[k].count)
 				sample_kv(b, "rtsup_thread_ewma_seconds", m->t[i]->life.m[k].ewma / 1e9,
-					  tl.l, "metric", mnames[k]);
+					  &tl, i, "metric", mnames[k]);
 	}
 	prom_family(b, "rtsup_thread_interval_max_seconds", "gauge",
 		    "Largest value per cycle metric in the last interval (absent: no cycle).");
@@ -393,12 +553,14 @@ static void render_threads(const struct prom_in *in, struct prom_buf *b)
 
 		if (!exported(tm))
 			continue;
-		thread_labels(tm, &tl);
-		for (k = 0; k < RTSUP_M_NR; k++)
-			if (tm->win.m[k].count)
-				sample_kv(b, "rtsup_thread_interval_max_seconds",
-					  tm->win.m[k].max / 1e9, tl.l, "metric", mnames[k]);
+		for (k = 0; k < RTSUP_M_NR; k++) {
+			if (!tm->win.m[k].count)
+				continue;
+			kv_open(b, "rtsup_thread_interval_max_seconds", &tl, i, "metric", mnames[k]);
+			put_seconds(b, tm->win.m[k].max);
+		}
 	}
+	tlabels_free(&tl);
 }
 
 /* render_self - the supervisor's own numbers */

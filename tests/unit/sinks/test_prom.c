@@ -273,6 +273,48 @@ static void test_prom_label_escaping(void **state)
 	assert_non_null(strstr(f->b.p, "comm=\"a\\\"b\\\\c\""));
 }
 
+/* a newline in a name is escaped too, and the process label comes after tgid */
+static void test_prom_label_newline(void **state)
+{
+	struct fixture *f = *state;
+	struct thread_model *tm = thread(&f->m, 101, "x\ny", 1);
+
+	snprintf(tm->pcomm, sizeof(tm->pcomm), "p\\q");
+	assert_int_equal(prom_render(&f->in, &f->b), 0);
+	assert_true(value_of(f->b.p, "rtsup_thread_cycles_total{comm=\"x\\ny\",tid=\"101\","
+				  "tgid=\"100\",process=\"p\\\\q\"}") == 1);
+	assert_true(value_of(f->b.p, "rtsup_component_status{component=\"x\\ny[101]\","
+				  "comm=\"x\\ny\",tid=\"101\",tgid=\"100\",process=\"p\\\\q\"}") == 0);
+}
+
+/*
+ * The interval maximum is written as the exact decimal of its ns: it reads
+ * back as the same double as ns / 1e9, with no 17-digit tail.
+ */
+static void test_prom_interval_max_exact(void **state)
+{
+	static const __u64 ns[] = { 1234567, 2000000000, 1000000001, 10000, 999999999 };
+	static const char *const text[] = { " 0.001234567\n", " 2\n", " 1.000000001\n",
+					    " 0.00001\n", " 0.999999999\n" };
+	struct fixture *f = *state;
+	char series[160];
+	unsigned i;
+
+	for (i = 0; i < sizeof(ns) / sizeof(ns[0]); i++) {
+		struct thread_model *tm = thread(&f->m, 200 + i, "lg", 3);
+		const char *p;
+
+		tm->win.m[RTSUP_M_LATENCY].max = ns[i];
+		assert_int_equal(prom_render(&f->in, &f->b), 0);
+		snprintf(series, sizeof(series), "rtsup_thread_interval_max_seconds{comm=\"lg\","
+			 "tid=\"%u\",tgid=\"100\",process=\"ctrl\",metric=\"latency\"}", 200 + i);
+		assert_true(value_of(f->b.p, series) == (double)ns[i] / 1e9);
+		p = strstr(f->b.p, series);
+		assert_non_null(p);
+		assert_int_equal(strncmp(p + strlen(series), text[i], strlen(text[i])), 0);
+	}
+}
+
 static void extra(struct prom_buf *b, void *ctx)
 {
 	(*(int *)ctx)++;
@@ -375,6 +417,8 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_prom_status_gauges, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_prom_exported_threads, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_prom_label_escaping, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_prom_label_newline, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_prom_interval_max_exact, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_prom_extra_hook, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_prom_format, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_model_prune_dead, setup, teardown),
