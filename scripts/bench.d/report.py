@@ -624,7 +624,7 @@ def render(r, res, made):
         a("## rtsup-trace's own CPU time and memory")
         a("")
         a("`rtsup-loadgen -n 1000 -P 100000 -w 0 -r 1` (1000 SCHED_FIFO threads at 10 Hz) "
-          "under `rtsup-trace --pid PID -i 1s` (the table, as shipped) and with `-j`; CPU time of every rtsup-trace thread from "
+          "under `rtsup-trace --pid PID -i 1s` (the table), with `-j`, and as prom: the table and `--prom-textfile` (the service's output); CPU time of every rtsup-trace thread from "
           "`/proc/PID/task/*/schedstat` over %.0f s after a 2 s start, RSS from `/proc/PID/status`."
           % med([u["seconds"] for u in us]))
         a("")

@@ -49,46 +49,38 @@ static int check_privileges(void)
 	return -1;
 }
 
-/* probe_tp_btf - can this kernel attach tp_btf to our tracepoints? */
-static bool probe_tp_btf(void)
-{
-	struct btf *btf = btf__load_vmlinux_btf();
-	bool ok;
+/*
+ * The kernel's BTF answers the questions below. Parsing it is 5 ms here and
+ * 70-150 ms in an emulated guest, so a start parses it once for all of
+ * them (libbpf parses it once more to load) and frees it before the load.
+ */
 
-	if (!btf)
-		return false;
+/* has_type - does the kernel's BTF (NULL: none) have 'name' of this kind? */
+static bool has_type(const struct btf *kbtf, const char *name, __u32 kind)
+{
+	return kbtf && btf__find_by_name_kind(kbtf, name, kind) > 0;
+}
+
+/* probe_tp_btf - can this kernel attach tp_btf to our tracepoints? */
+static bool probe_tp_btf(const struct btf *kbtf)
+{
 	/* the typedef exists only where tp_btf (BPF_PROG_TYPE_TRACING) does */
-	ok = btf__find_by_name_kind(btf, "btf_trace_sched_switch", BTF_KIND_TYPEDEF) > 0;
-	btf__free(btf);
-	return ok;
+	return has_type(kbtf, "btf_trace_sched_switch", BTF_KIND_TYPEDEF);
 }
 
 /* has_tracepoint - does this kernel have the tracepoint (its BTF typedef)? */
-static bool has_tracepoint(const char *name)
+static bool has_tracepoint(const struct btf *kbtf, const char *name)
 {
-	struct btf *btf = btf__load_vmlinux_btf();
 	char tn[96];
-	bool ok;
 
-	if (!btf)
-		return false;
 	snprintf(tn, sizeof(tn), "btf_trace_%s", name);
-	ok = btf__find_by_name_kind(btf, tn, BTF_KIND_TYPEDEF) > 0;
-	btf__free(btf);
-	return ok;
+	return has_type(kbtf, tn, BTF_KIND_TYPEDEF);
 }
 
 /* has_function - does this kernel's BTF have the function (fexit can attach)? */
-static bool has_function(const char *name)
+static bool has_function(const struct btf *kbtf, const char *name)
 {
-	struct btf *btf = btf__load_vmlinux_btf();
-	bool ok;
-
-	if (!btf)
-		return false;
-	ok = btf__find_by_name_kind(btf, name, BTF_KIND_FUNC) > 0;
-	btf__free(btf);
-	return ok;
+	return has_type(kbtf, name, BTF_KIND_FUNC);
 }
 
 /*
@@ -208,6 +200,7 @@ int loader_start(struct loader *l, const struct options *o)
 {
 	struct rtsup_bpf *s;
 	struct bpf_program *p;
+	struct btf *kbtf;
 	int err, i;
 
 	memset(l, 0, sizeof(*l));
@@ -220,21 +213,23 @@ int loader_start(struct loader *l, const struct options *o)
 				"it needs CONFIG_DEBUG_INFO_BTF=y\n");
 		return -1;
 	}
-	l->tp_btf = !o->raw_tp && probe_tp_btf();
 	s = rtsup_bpf__open();
 	if (!s) {
 		fprintf(stderr, "rtsup-trace: cannot open the BPF object: %s\n", strerror(errno));
 		return -1;
 	}
 	l->skel = s;
+	kbtf = !o->raw_tp || o->stack_any ? btf__load_vmlinux_btf() : NULL;
+	l->tp_btf = !o->raw_tp && probe_tp_btf(kbtf);
 	/* where in the code of page faults: x86's exceptions:page_fault_user */
-	l->fault_stacks = o->stack_any && has_tracepoint("page_fault_user");
+	l->fault_stacks = o->stack_any && has_tracepoint(kbtf, "page_fault_user");
 	if (o->stack_any && !l->fault_stacks)
 		fprintf(stderr, "rtsup-trace: --stacks: no page_fault_user tracepoint on this "
 				"kernel: page faults are counted without their stacks\n");
 	/* --rt: policy changes found where they happen, not at every switch */
 	l->rt_hook = o->targets.rt && l->tp_btf && !rt_hook_failed &&
-		     has_function(RTSUP_RT_HOOK_FN);
+		     has_function(kbtf, RTSUP_RT_HOOK_FN);
+	btf__free(kbtf);
 	/* the targets' attributes in one read a sample, where tracing programs load */
 	l->attrs_iter = l->tp_btf && !attrs_iter_failed && !o->floor;
 	select_programs(s->obj, l->tp_btf, o->can, l->fault_stacks, l->rt_hook, l->attrs_iter);
