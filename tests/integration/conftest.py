@@ -25,6 +25,7 @@ TRACE = Path(os.environ["RTSUP_TRACE"]).resolve() if os.environ.get("RTSUP_TRACE
     else BUILD / "rtsup-trace"
 LOADGEN = BUILD / "rtsup-loadgen"
 NOISE = BUILD / "rtsup-noise"
+HANGS = BUILD / "vm" / "hangs.log"  # scripts/vm-test: boots that hung
 IN_CI = os.environ.get("CI", "").lower() in ("1", "true", "yes")
 # Inside a qemu TCG guest (tests/integration/test_guest.py) time is slow and
 # noisy: tests keep their count assertions and relax the timing ones.
@@ -64,6 +65,7 @@ def pytest_sessionstart(session):
             [str(NOISE), "inject"] + NOISE_ARGS.split(), stdout=subprocess.PIPE, text=True)
         time.sleep(0.2)
     session.config._rtsup_gauge = [noise_gauge()]
+    session.config._rtsup_hangs_at = HANGS.stat().st_size if HANGS.exists() else 0
 
 
 def pytest_report_header(config):
@@ -78,6 +80,12 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config):
     g = noise_gauge()
     terminalreporter.write_line("at the start: " + _gauge_line(config._rtsup_gauge[0]))
     terminalreporter.write_line("at the end:   " + _gauge_line(g))
+    # guest boots that hung and were booted again (scripts/vm-test): where they stopped
+    if HANGS.exists() and HANGS.stat().st_size > config._rtsup_hangs_at:
+        with open(HANGS, errors="replace") as f:
+            f.seek(config._rtsup_hangs_at)
+            for line in f.read().splitlines():
+                terminalreporter.write_line(line)
 
 
 def pytest_unconfigure(config):
