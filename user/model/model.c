@@ -118,13 +118,19 @@ static void hist_quantiles(const __u64 *h, int b0, int b1, __u64 total, double s
 	}
 }
 
-void hist_delta(const __u32 *cur, const __u32 *prev, __u64 *out)
+/* delta_in - hist_delta over [lo, hi] only */
+static void delta_in(const __u32 *cur, const __u32 *prev, int lo, int hi, __u64 *out)
 {
 	int b;
 
 	/* u32 arithmetic: right modulo 2^32 when a bucket wrapped in between */
-	for (b = 0; b < HIST_BUCKETS; b++)
+	for (b = lo; b <= hi; b++)
 		out[b] = (__u32)(cur[b] - (prev ? prev[b] : 0));
+}
+
+void hist_delta(const __u32 *cur, const __u32 *prev, __u64 *out)
+{
+	delta_in(cur, prev, 0, HIST_BUCKETS - 1, out);
 }
 
 #define DELTA_BLOCK 8
@@ -165,15 +171,6 @@ static void delta_range(const __u32 *cur, const __u32 *prev, int *lo, int *hi)
 		b--;
 	*lo = a;
 	*hi = b;
-}
-
-/* delta_in - hist_delta over [lo, hi] only */
-static void delta_in(const __u32 *cur, const __u32 *prev, int lo, int hi, __u64 *out)
-{
-	int b;
-
-	for (b = lo; b <= hi; b++)
-		out[b] = (__u32)(cur[b] - (prev ? prev[b] : 0));
 }
 
 /* nonzero_range - the buckets of h that are not 0 lie in [*lo, *hi] */

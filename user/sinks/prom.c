@@ -116,6 +116,15 @@ static void put_escaped(struct prom_buf *b, const char *s)
 	}
 }
 
+/* put_kv - one label, k="v", its value escaped */
+static void put_kv(struct prom_buf *b, const char *k, const char *v)
+{
+	puts_(b, k);
+	put(b, "=\"", 2);
+	put_escaped(b, v);
+	put(b, "\"", 1);
+}
+
 void prom_family(struct prom_buf *b, const char *name, const char *type, const char *help)
 {
 	prom_printf(b, "# HELP %s %s\n# TYPE %s %s\n", name, help, name, type);
@@ -132,10 +141,7 @@ static void put_labels(struct prom_buf *b, const char *const *labels)
 	for (i = 0; labels[i] && labels[i + 1]; i += 2) {
 		if (i)
 			put(b, ",", 1);
-		puts_(b, labels[i]);
-		put(b, "=\"", 2);
-		put_escaped(b, labels[i + 1]);
-		put(b, "\"", 1);
+		put_kv(b, labels[i], labels[i + 1]);
 	}
 	put(b, "}", 1);
 }
@@ -214,9 +220,7 @@ static void put_thread_labels(struct prom_buf *b, const struct thread_model *tm,
 	t->lab_len = b->len - t->lab;
 	t->comp = b->len;
 	snprintf(comp, sizeof(comp), "%s[%u]", tm->comm, tm->tid);
-	put(b, "component=\"", 11);
-	put_escaped(b, comp);
-	put(b, "\"", 1);
+	put_kv(b, "component", comp);
 	t->comp_len = b->len - t->comp;
 }
 
@@ -239,9 +243,16 @@ static void tlabels_free(struct tlabels *tl)
 	free(tl->t);
 }
 
-/* put_lab - thread i's label text, with the component label first when 'comp' */
-static void put_lab(struct prom_buf *b, const struct tlabels *tl, int i, bool comp)
+/*
+ * t_open - name and suffix, '{' and thread i's labels (the component label
+ * first when 'comp'); the caller adds more labels, then '}' and the value
+ */
+static void t_open(struct prom_buf *b, const char *name, const char *suffix,
+		   const struct tlabels *tl, int i, bool comp)
 {
+	puts_(b, name);
+	puts_(b, suffix);
+	put(b, "{", 1);
 	if (comp) {
 		put(b, tl->text.p + tl->t[i].comp, tl->t[i].comp_len);
 		put(b, ",", 1);
@@ -253,25 +264,19 @@ static void put_lab(struct prom_buf *b, const struct tlabels *tl, int i, bool co
 static void sample_t(struct prom_buf *b, const char *name, double value,
 		     const struct tlabels *tl, int i, bool comp)
 {
-	puts_(b, name);
-	put(b, "{", 1);
-	put_lab(b, tl, i, comp);
+	t_open(b, name, "", tl, i, comp);
 	put(b, "}", 1);
 	put_value(b, value);
 }
 
-/* kv_open - name{thread i's labels,k="v" (the value and '}' left to the caller) */
+/* kv_open - name{thread i's labels,k="v"} (the value left to the caller) */
 static void kv_open(struct prom_buf *b, const char *name, const struct tlabels *tl, int i,
 		    const char *k, const char *v)
 {
-	puts_(b, name);
-	put(b, "{", 1);
-	put_lab(b, tl, i, false);
+	t_open(b, name, "", tl, i, false);
 	put(b, ",", 1);
-	puts_(b, k);
-	put(b, "=\"", 2);
-	put_escaped(b, v);
-	put(b, "\"}", 2);
+	put_kv(b, k, v);
+	put(b, "}", 1);
 }
 
 /* sample_kv - one sample of thread i with one more label than the thread's */
@@ -327,7 +332,7 @@ static void put_histogram(struct prom_buf *b, const char *name, const struct thr
 	const struct rtsup_metric_stats *st = &tm->cur.m[metric];
 	__u64 own[HIST_BUCKETS], cum = 0;
 	const __u64 *h = own;
-	char bucket[96], suffix[96];
+	char bucket[96];
 	int i, lo = 0, hi = HIST_BUCKETS - 1;
 	size_t k;
 
@@ -346,14 +351,11 @@ static void put_histogram(struct prom_buf *b, const char *name, const struct thr
 		sample_kv(b, bucket, cum < st->count ? cum : st->count, tl, ti, "le", le_text(k));
 	}
 	sample_kv(b, bucket, st->count, tl, ti, "le", "+Inf");
-	snprintf(suffix, sizeof(suffix), "%s_sum", name);
-	puts_(b, suffix);
-	put(b, "{", 1);
-	put_lab(b, tl, ti, false);
+	t_open(b, name, "_sum", tl, ti, false);
+	prom_printf(b, "} %.9f\n", st->sum / 1e9);
+	t_open(b, name, "_count", tl, ti, false);
 	put(b, "}", 1);
-	prom_printf(b, " %.9f\n", st->sum / 1e9);
-	snprintf(suffix, sizeof(suffix), "%s_count", name);
-	sample_t(b, suffix, st->count, tl, ti, false);
+	put_value(b, st->count);
 }
 
 /*
@@ -406,24 +408,19 @@ static void put_info(struct prom_buf *b, const struct prom_in *in, const struct 
 	const struct thread_model *tm = in->m->t[i];
 	const char *rule = "";
 	char prio[16];
-	const char *const more[] = {
-		"policy", policy_name(tm->policy), "priority", prio,
-		"cpus", tm->cpus[0] ? tm->cpus : "-", "rule", NULL,
-	};
-	int k;
 
 	snprintf(prio, sizeof(prio), "%d", tm->prio);
 	if (tm->rule >= 0 && tm->rule_gen == in->s->gen && tm->rule < in->s->cfg.nrules)
 		rule = in->s->cfg.rules[tm->rule].name;
-	puts_(b, "rtsup_thread_info{");
-	put_lab(b, tl, i, false);
-	for (k = 0; k < 8; k += 2) {
-		put(b, ",", 1);
-		puts_(b, more[k]);
-		put(b, "=\"", 2);
-		put_escaped(b, k == 6 ? rule : more[k + 1]);
-		put(b, "\"", 1);
-	}
+	t_open(b, "rtsup_thread_info", "", tl, i, false);
+	put(b, ",", 1);
+	put_kv(b, "policy", policy_name(tm->policy));
+	put(b, ",", 1);
+	put_kv(b, "priority", prio);
+	put(b, ",", 1);
+	put_kv(b, "cpus", tm->cpus[0] ? tm->cpus : "-");
+	put(b, ",", 1);
+	put_kv(b, "rule", rule);
 	put(b, "}", 1);
 	put_value(b, 1);
 }
