@@ -12,6 +12,8 @@ import pytest
 
 from conftest import IN_CI, ROOT
 
+pytestmark = pytest.mark.vm
+
 VM = ROOT / "scripts" / "vm-test"
 
 

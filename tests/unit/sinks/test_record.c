@@ -119,6 +119,12 @@ static size_t payload(enum rec_type t, unsigned char *buf)
 	case REC_END:
 		len = sizeof(struct rec_interval);
 		break;
+	case REC_STACK:
+		len = sizeof(struct rec_stack);
+		break;
+	case REC_MODULE:
+		len = sizeof(struct rec_module);
+		break;
 	}
 	for (i = 0; i < len; i++)
 		buf[i] = rnd();
