@@ -19,6 +19,7 @@
 
 #define RTSUP_INLINE static __always_inline
 #define RTSUP_SUBPROG static __noinline
+#define RTSUP_GLOBAL __noinline
 #define RTSUP_ZERO(p, n) zero_mem(p, n)
 #include "rtsup.h"
 
@@ -1222,6 +1223,71 @@ static __always_inline __u32 switch_out_run(struct rtsup_thread *t,
 	return *c ? switch_out_cycle(t, in, *c) : 0;	/* an array's one entry: never NULL */
 }
 
+/* the inputs of switch_out_state and switch_out_events: prev as on_switch read it */
+struct switch_out_side_in {
+	__u64 now, minflt, majflt;
+	__u32 prev_tid, path, voluntary, state;
+	__s32 policy, prio;	/* read when preempted (not voluntary) only */
+};
+
+/*
+ * switch_out_state, switch_out_events - what a target's switch-out does
+ * past the reads of prev: its cycle's state (switch_out_cycle), then its
+ * wait for this CPU and its events. Global: each verified once, not once
+ * for each state of the switch's other side (6.1's verifier walked this
+ * code inlined some 9000 times: 101 390 instructions for sched_switch).
+ * Two, not one: 6.1 allows 512 bytes of stack for the deepest chain of
+ * calls, each frame rounded up to 32, and switch_out_cycle's is three deep.
+ */
+__noinline int switch_out_state(struct rtsup_thread *pt, const struct switch_out_side_in *in)
+{
+	struct rtsup_cycle *c;
+
+	if (!pt || !in)
+		return 0;
+	struct switch_out_in so = {
+		.cf = cfg(pt->cs.mode == RTSUP_MODE_DELIM ? NULL : thread_cfg_of(in->prev_tid)),
+		.now = in->now, .path = in->path, .voluntary = in->voluntary,
+		.minflt = in->minflt, .majflt = in->majflt,
+	};
+
+	why_switch_out(&pt->why, &pt->cs, in->now, in->voluntary, in->state);
+	return switch_out_run(pt, &so, &c);
+}
+
+__noinline int switch_out_events(struct rtsup_thread *pt, const struct switch_out_side_in *in,
+				 __u32 ev)
+{
+	struct why_slot *ws;
+	struct rtsup_cycle *c;
+	__u32 zero = 0;
+
+	if (!pt || !in)
+		return 0;
+	/* preempted while released: it waits for this CPU (cause.h) */
+	ws = why_slot_of(bpf_get_smp_processor_id());
+	if (!in->voluntary && in->now && ws) {
+		int i = why_pick(ws, in->prev_tid, in->now);
+
+		if (i >= 0 && i < WHY_WAITERS) {
+			why_arm(&ws[i], in->prev_tid, WHY_PREEMPTED, in->now);
+			ws[i].policy = in->policy;
+			ws[i].prio = in->prio;
+		} else
+			count(RTSUP_C_WHY_BUSY);
+	}
+	if (ev & CYC_EV_BLOCK) {
+		emit(RTSUP_EV_UNSAFE, pt, in->now, RTSUP_U_BLOCK, 0);
+		/* prev is the current task: where it blocked */
+		capture_stack(pt, in->now, RTSUP_U_BLOCK, 0);
+	}
+	/* the cycle switch_out_state closed: this CPU's record of it */
+	c = bpf_map_lookup_elem(&switch_out, &zero);
+	if (c && (ev & CYC_EV_CLOSED))
+		emit_cycle(ev, pt, in->now, c, 0);
+	return 0;
+}
+
 /* on_switch - one thread leaves the CPU, another gets it */
 static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 				     struct task_struct *next, const int btf)
@@ -1229,7 +1295,6 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 	__u32 prev_tid = TREAD(btf, prev, pid), next_tid = TREAD(btf, next, pid);
 	struct rtsup_thread *pt, *nt;
 	struct cycle_switch_rec *r = NULL;
-	struct rtsup_cycle *c = NULL;
 	enum cycle_out_path out = CYC_OUT_IDLE;
 	int voluntary, hold = 0;
 	__u32 ev, state = 0, cpu = bpf_get_smp_processor_id();
@@ -1269,33 +1334,18 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 					      TREAD(btf, next, min_flt), TREAD(btf, next, maj_flt));
 	}
 	if (pt) {
-		struct switch_out_in so = {
-			.cf = cfg(pt->cs.mode == RTSUP_MODE_DELIM ? NULL : thread_cfg_of(prev_tid)),
-			.now = now, .path = out, .voluntary = voluntary,
+		struct switch_out_side_in in = {
+			.now = now, .prev_tid = prev_tid, .path = out, .voluntary = voluntary,
+			.state = state,
 			.minflt = TREAD(btf, prev, min_flt), .majflt = TREAD(btf, prev, maj_flt),
 		};
 
-		why_switch_out(&pt->why, &pt->cs, now, voluntary, state);
-		ev = switch_out_run(pt, &so, &c);
-		/* preempted while released: it waits for this CPU (cause.h) */
-		if (!voluntary && now && ws) {
-			int i = why_pick(ws, prev_tid, now);
-
-			if (i >= 0 && i < WHY_WAITERS) {
-				why_arm(&ws[i], prev_tid, WHY_PREEMPTED, now);
-				ws[i].policy = TREAD(btf, prev, policy);
-				ws[i].prio = why_rt(ws[i].policy) ?
-					     (__s32)TREAD(btf, prev, rt_priority) : 0;
-			} else
-				count(RTSUP_C_WHY_BUSY);
+		if (!voluntary) {
+			in.policy = TREAD(btf, prev, policy);
+			in.prio = why_rt(in.policy) ? (__s32)TREAD(btf, prev, rt_priority) : 0;
 		}
-		if (ev & CYC_EV_BLOCK) {
-			emit(RTSUP_EV_UNSAFE, pt, now, RTSUP_U_BLOCK, 0);
-			/* prev is the current task: where it blocked */
-			capture_stack(pt, now, RTSUP_U_BLOCK, 0);
-		}
-		if (c && (ev & CYC_EV_CLOSED))
-			emit_cycle(ev, pt, now, c, 0);
+		ev = switch_out_state(pt, &in);
+		switch_out_events(pt, &in, ev);
 	}
 	if (nt) {
 		ev = cycle_switch_in(nt, now, cpu, TREAD(btf, next, min_flt),
