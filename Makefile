@@ -269,20 +269,9 @@ unit: $(UNIT_BINS)
 ros2-venv:
 	$(Q)scripts/ros2-venv >/dev/null
 
-# The host's tests one at a time (they time things), then the guests' tests
-# (marker vm) VM_LANES at a time: a TCG guest leaves about half of this
-# 2-CPU host idle (docs/testing.md). Longest first: xdist hands out the
-# units in this order.
-VM_LANES ?= 2
-VM_TESTS := $(addprefix tests/integration/,test_guest.py test_deb.py test_robot.py \
-	test_can.py test_guest_arm64.py test_cansim.py)
 integration: all
 	$(Q)scripts/ros2-venv >/dev/null || echo "integration: no venv for test_ros2.py" >&2
-	$(Q)rc=0; \
-	$(PYTHON) -m pytest -v -rs --durations=15 -m "not vm" tests/integration || rc=1; \
-	$(PYTHON) -m pytest -v -rs --durations=15 -m vm -n $(VM_LANES) --dist loadgroup \
-		$(VM_TESTS) || rc=1; \
-	exit $$rc
+	$(Q)$(PYTHON) -m pytest -v -rs --durations=15 tests/integration
 
 # The host integration tests with our own noise on every CPU (scripts/noise):
 # a SCHED_FIFO 99 thread per CPU burns 3 ms every 30 ms (+-25 %).

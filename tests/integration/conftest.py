@@ -60,11 +60,6 @@ def _gauge_line(g):
 def pytest_sessionstart(session):
     """Start the noise injector (if asked), then gauge the noise the tests meet."""
     session.config._rtsup_noise = None
-    if hasattr(session.config, "workerinput"):
-        # a pytest-xdist worker (make integration's guest tests): its
-        # controller gauges and reports the noise, once
-        session.config._rtsup_gauge = [None]
-        return
     if NOISE_ARGS and NOISE.exists():
         session.config._rtsup_noise = subprocess.Popen(
             [str(NOISE), "inject"] + NOISE_ARGS.split(), stdout=subprocess.PIPE, text=True)

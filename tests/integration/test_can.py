@@ -14,9 +14,6 @@ import pytest
 
 from conftest import IN_CI, ROOT, TRACE
 
-# every test boots its own guest (make integration runs two at a time)
-pytestmark = pytest.mark.vm
-
 VM = ROOT / "scripts" / "vm-test"
 
 

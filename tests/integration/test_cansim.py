@@ -20,9 +20,6 @@ import uuid
 import pytest
 
 from conftest import IN_CI, ROOT, TRACE
-
-# one guest run (the module's fixture) serves every test: one worker holds them all
-pytestmark = [pytest.mark.vm, pytest.mark.xdist_group("cansim")]
 from test_can import VM, can_ids, can_ifs, summary_of, vm_ready
 
 CANSIM = ROOT / "build" / "rtsup-cansim"

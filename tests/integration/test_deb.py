@@ -11,9 +11,6 @@ import pytest
 
 from conftest import IN_CI, ROOT
 
-# make deb once (the module's fixture) for both tests: one worker holds them
-pytestmark = [pytest.mark.vm, pytest.mark.xdist_group("deb")]
-
 DEB_DIR = ROOT / "build" / "deb"
 
 

@@ -12,8 +12,6 @@ import pytest
 
 from conftest import IN_CI, ROOT
 
-pytestmark = pytest.mark.vm
-
 VM = ROOT / "scripts" / "vm-test"
 
 

@@ -21,9 +21,6 @@ import pytest
 
 from conftest import IN_CI, ROOT, threads_by_tid
 
-# one guest run (the module's fixture) serves every test: one worker holds them all
-pytestmark = [pytest.mark.vm, pytest.mark.xdist_group("arm64")]
-
 VM = ROOT / "scripts" / "vm-test"
 KERNEL = "rt-arm64"
 BUILD = "build-arm64"

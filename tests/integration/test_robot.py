@@ -244,7 +244,6 @@ def _hash_32mib_ns():
 
 
 # a guest set up (1800 s) and run (900 s): pytest.ini's 600 s would cut it first
-@pytest.mark.vm
 @pytest.mark.timeout(2800)
 def test_service_under_systemd_in_vm():
     """The service under a real systemd 252 in a vm-test guest: READY and
