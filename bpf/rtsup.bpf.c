@@ -1227,6 +1227,7 @@ static __always_inline __u32 switch_out_run(struct rtsup_thread *t,
 struct switch_out_side_in {
 	__u64 now, minflt, majflt;
 	__u32 prev_tid, path, voluntary, state;
+	__u32 cpu, pad;		/* this CPU, as on_switch read it */
 	__s32 policy, prio;	/* read when preempted (not voluntary) only */
 };
 
@@ -1265,7 +1266,7 @@ __noinline int switch_out_events(struct rtsup_thread *pt, const struct switch_ou
 	if (!pt || !in)
 		return 0;
 	/* preempted while released: it waits for this CPU (cause.h) */
-	ws = why_slot_of(bpf_get_smp_processor_id());
+	ws = why_slot_of(in->cpu);
 	if (!in->voluntary && in->now && ws) {
 		int i = why_pick(ws, in->prev_tid, in->now);
 
@@ -1281,9 +1282,11 @@ __noinline int switch_out_events(struct rtsup_thread *pt, const struct switch_ou
 		/* prev is the current task: where it blocked */
 		capture_stack(pt, in->now, RTSUP_U_BLOCK, 0);
 	}
+	if (!(ev & CYC_EV_CLOSED))
+		return 0;
 	/* the cycle switch_out_state closed: this CPU's record of it */
 	c = bpf_map_lookup_elem(&switch_out, &zero);
-	if (c && (ev & CYC_EV_CLOSED))
+	if (c)
 		emit_cycle(ev, pt, in->now, c, 0);
 	return 0;
 }
@@ -1336,7 +1339,7 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 	if (pt) {
 		struct switch_out_side_in in = {
 			.now = now, .prev_tid = prev_tid, .path = out, .voluntary = voluntary,
-			.state = state,
+			.state = state, .cpu = cpu,
 			.minflt = TREAD(btf, prev, min_flt), .majflt = TREAD(btf, prev, maj_flt),
 		};
 
