@@ -67,6 +67,7 @@ const volatile __u32 cfg_follow;	/* -- CMD: child processes are targets too */
 const volatile __u32 cfg_can_nif;	/* --can IFACE: how many; 0 = every CAN interface */
 const volatile __u32 cfg_netns;		/* inode of rtsup-trace's network namespace */
 const volatile __u32 cfg_canopen;	/* match CANopen SDO requests and responses */
+const volatile __s64 cfg_steal_off;	/* KVM's steal_time from a run queue (cpu_steal) */
 const volatile char cfg_comms[RTSUP_MAX_COMMS][RTSUP_COMM_LEN];
 const volatile __u32 cfg_stacks;	/* --stacks: enum rtsup_stacks */
 const volatile __u32 cfg_stack_size = 8192;	/* --stack-size: DWARF bytes copied */
@@ -285,6 +286,29 @@ static __always_inline void zero_mem(void *p, __u32 n)
 
 	if (tmpl && n <= sizeof(struct rtsup_thread))
 		bpf_probe_read_kernel(p, n, tmpl);
+}
+
+/*
+ * cpu_steal - this CPU's steal counter (KVM's steal_time.steal: what the
+ * host ran instead of this vCPU, ns), for targets only (cause.h,
+ * why_steal_in). Found from this CPU's run queue, reached through the
+ * current task, at cfg_steal_off (loader.c); 0 where the kernel has none,
+ * or where the run queue is not this CPU's.
+ */
+static __always_inline __u64 cpu_steal(__u32 cpu)
+{
+	struct task_struct *task;
+	__u64 steal = 0;
+	struct rq *rq;
+
+	if (!cfg_steal_off)
+		return 0;
+	task = (struct task_struct *)bpf_get_current_task();
+	rq = BPF_CORE_READ(task, se.cfs_rq, rq);
+	if (!rq || BPF_CORE_READ(rq, cpu) != (int)cpu)
+		return 0;
+	bpf_probe_read_kernel(&steal, sizeof(steal), (void *)rq + cfg_steal_off);
+	return steal;
 }
 
 /* maybe_target - may this thread be in "threads"? No: return at once */
@@ -879,8 +903,12 @@ static __always_inline struct cycle_switch_rec *held_switch_in(void)
 static __always_inline void settle(struct rtsup_thread *t, struct cycle_switch_rec *r)
 {
 	/* cycle_settle leaves the record's time and CPU as they were */
-	if (r && (cycle_settle(t, r) & CYC_EV_MIGRATE))
+	if (!r || r->tid != t->tid)
+		goto settled;
+	why_steal_in(&t->why, r->cpu, r->steal);
+	if (cycle_settle(t, r) & CYC_EV_MIGRATE)
 		emit(RTSUP_EV_UNSAFE, t, r->now, RTSUP_U_MIGRATE, why_migrated(&t->why, r->cpu));
+settled:
 	why_settle(t);
 }
 
@@ -1018,14 +1046,18 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 			.cf = cfg(tc), .now = now, .expected = expected, .absolute = absolute,
 			.minflt = TREAD(btf, task, min_flt), .majflt = TREAD(btf, task, maj_flt),
 		};
-		__u32 zero = 0;
+		__u32 zero = 0, cpu = bpf_get_smp_processor_id();
+		__u64 steal = cpu_steal(cpu);
 
 		c = bpf_map_lookup_elem(&delim_out, &zero);
 		if (!c)
 			return 0;	/* an array's one entry: never */
 		ev = delim_cycle(t, &in, c);
+		/* what was stolen up to here is the closing cycle's; the next starts now */
+		why_steal_out(&t->why, cpu, steal);
 		why_delim(&t->why, ev, ev & CYC_EV_CLOSED ? c->cpu : 0,
 			  ev & CYC_EV_CLOSED ? c->nominal : 0, now, expected);
+		why_steal_in(&t->why, cpu, steal);
 		note_wake(t);
 		if (ev & CYC_EV_CLOSED)
 			emit_cycle(ev, t, now, c, now - expected);
@@ -1253,6 +1285,11 @@ __noinline int switch_out_state(struct rtsup_thread *pt, const struct switch_out
 	};
 
 	why_switch_out(&pt->why, &pt->cs, in->now, in->voluntary, in->state);
+	/* a switch-out that reads no clock (asleep in its delimiter) counts no CPU time */
+	if (in->now)
+		why_steal_out(&pt->why, in->cpu, cpu_steal(in->cpu));
+	else
+		pt->why.steal_cpu = 0;
 	return switch_out_run(pt, &so, &c);
 }
 
@@ -1332,9 +1369,11 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 	if (hold) {
 		if (!r)
 			r = held_switch_in();
-		if (r)
-			cycle_switch_in_later(r, next_tid, now, bpf_get_smp_processor_id(),
+		if (r) {
+			cycle_switch_in_later(r, next_tid, now, cpu,
 					      TREAD(btf, next, min_flt), TREAD(btf, next, maj_flt));
+			r->steal = cpu_steal(cpu);
+		}
 	}
 	if (pt) {
 		struct switch_out_side_in in = {
@@ -1355,6 +1394,7 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 				     TREAD(btf, next, maj_flt));
 		if (ev & CYC_EV_MIGRATE)
 			emit(RTSUP_EV_UNSAFE, nt, now, RTSUP_U_MIGRATE, why_migrated(&nt->why, cpu));
+		why_steal_in(&nt->why, cpu, cpu_steal(cpu));
 		why_settle(nt);
 	}
 	return 0;

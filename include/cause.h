@@ -15,9 +15,11 @@
  * A cycle's time from its expected release to its end is made of parts:
  * timer (release to wakeup: the machine), wait (woken to running: other
  * tasks), preemption, blocks, backlog (released after its time because
- * the previous cycle ended late) and its own CPU time. When a cycle misses
- * its deadline, the biggest part is its cause (cause_pick), named with
- * the task behind it.
+ * the previous cycle ended late) and its own CPU time. Under a hypervisor
+ * a part of what looks like its CPU time may be another vCPU's: the time
+ * the host stole while the target ran (steal, why_steal_in/out) is a part
+ * of its own, taken out of the CPU time. When a cycle misses its deadline,
+ * the biggest part is its cause (cause_pick), named with the task behind it.
  */
 #ifndef RTSUP_CAUSE_H
 #define RTSUP_CAUSE_H
@@ -99,6 +101,7 @@ RTSUP_INLINE void why_reset(struct rtsup_cause *c)
 	c->block_ns = 0;
 	c->backlog_ns = 0;
 	c->cpu_ns = 0;
+	c->steal_ns = 0;
 	c->preempts = 0;
 	c->blocks = 0;
 	c->block_nr = 0;
@@ -378,28 +381,57 @@ RTSUP_INLINE int why_move(struct why_slot *s, struct why_slot *d, __u32 tid, __u
 }
 
 /*
+ * why_steal_in - the target runs on 'cpu' from now, whose steal counter
+ * (the time its hypervisor ran something else on this vCPU, in ns) reads
+ * 'steal'; a kernel that tells no steal reads 0 throughout.
+ */
+RTSUP_INLINE void why_steal_in(struct rtsup_why *w, __u32 cpu, __u64 steal)
+{
+	w->steal_cpu = cpu + 1;
+	w->steal_in = steal;
+}
+
+/*
+ * why_steal_out - the target leaves 'cpu' (or its cycle ends there): what
+ * the host stole since its switch-in is the running cycle's. A switch-in
+ * no hook marked, or one on another CPU (a counter of its own), adds nothing.
+ */
+RTSUP_INLINE void why_steal_out(struct rtsup_why *w, __u32 cpu, __u64 steal)
+{
+	if (w->steal_cpu == cpu + 1 && steal > w->steal_in)
+		w->cur.steal_ns += steal - w->steal_in;
+	w->steal_cpu = 0;
+}
+
+/*
  * cause_pick - the cause of a late cycle: its biggest part (ties go to the
  * first: the machine, then other tasks), and the task behind it; for a
  * wait or a preemption 'ns' is that task's share of it. Its own
- * CPU time ('cpu') is the cause only when it alone does not fit the
- * nominal period, or when nothing else took any time: a cycle released
- * late by a backlog whose work fits its period is late for that backlog;
- * a part below 1/WHY_MINOR of its CPU time is too small to be the cause.
+ * CPU time ('cpu', less what the host stole while it ran) is the cause
+ * only when it alone does not fit the nominal period, or when nothing
+ * else took any time: a cycle released late by a backlog whose work fits
+ * its period is late for that backlog; a part below 1/WHY_MINOR of its
+ * CPU time is too small to be the cause.
  */
 #define WHY_MINOR	8
 
 RTSUP_INLINE void cause_pick(struct rtsup_cause *c, __u64 cpu, __u64 nominal)
 {
+	__u64 stolen = c->steal_ns < cpu ? c->steal_ns : cpu;
 	__u64 part[RTSUP_CAUSE_NR] = {
 		[RTSUP_CAUSE_TIMER] = c->timer_ns,
 		[RTSUP_CAUSE_WAIT] = c->wait_ns,
 		[RTSUP_CAUSE_PREEMPT] = c->preempt_ns,
 		[RTSUP_CAUSE_BLOCK] = c->block_ns,
 		[RTSUP_CAUSE_BACKLOG] = c->backlog_ns,
-		[RTSUP_CAUSE_EXEC] = cpu,
+		[RTSUP_CAUSE_STEAL] = stolen,
 	};
-	__u32 k, best = RTSUP_CAUSE_NONE;
+	/* the machine first: steal, then the timer, then other tasks */
+	__u32 k, best = RTSUP_CAUSE_STEAL;
 
+	cpu -= stolen;
+	part[RTSUP_CAUSE_EXEC] = cpu;
+	c->steal_ns = stolen;
 	c->cpu_ns = cpu;
 	for (k = RTSUP_CAUSE_TIMER; k < RTSUP_CAUSE_EXEC; k++)
 		if (part[k] > part[best])

@@ -677,6 +677,7 @@ struct cycle_switch_rec {
 	__u64 now;
 	__u64 minflt;
 	__u64 majflt;
+	__u64 steal;		/* the CPU's steal counter then (cause.h, why_steal_in) */
 };
 
 /* cycle_switch_in_later - hold a switch-in until the thread's next event */

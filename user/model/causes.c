@@ -15,6 +15,7 @@ static const char *const kind_names[RTSUP_CAUSE_NR] = {
 	[RTSUP_CAUSE_BLOCK] = "block",
 	[RTSUP_CAUSE_BACKLOG] = "backlog",
 	[RTSUP_CAUSE_EXEC] = "exec",
+	[RTSUP_CAUSE_STEAL] = "steal",
 };
 
 const char *cause_kind_name(__u32 kind)
@@ -187,6 +188,8 @@ static const char *after_text(__u32 after)
 		return " (machine latency: idle exit)";
 	case RTSUP_CAUSE_EXEC:
 		return " (its own CPU time)";
+	case RTSUP_CAUSE_STEAL:
+		return " (hypervisor steal)";
 	}
 	return "";
 }
@@ -237,6 +240,10 @@ static void causes_text_kind(char *buf, size_t len, __u32 kind, __u32 flags, __u
 	case RTSUP_CAUSE_EXEC:
 		snprintf(buf, len, "its own CPU time, %.3f ms", ms);
 		break;
+	case RTSUP_CAUSE_STEAL:
+		snprintf(buf, len, "the hypervisor ran something else on its vCPU for %.3f ms "
+			 "while it ran: machine latency (steal)", ms);
+		break;
 	default:
 		snprintf(buf, len, "no cause measured");
 	}
@@ -274,6 +281,8 @@ static const char *machine(__u32 kind)
 		return "machine latency (idle exit)";
 	case RTSUP_CAUSE_EXEC:
 		return "its own CPU time";
+	case RTSUP_CAUSE_STEAL:
+		return "machine / hypervisor steal";
 	case RTSUP_CAUSE_BACKLOG:
 		return "the late cycle before";
 	}

@@ -194,10 +194,11 @@ static json_t *json_cause(const struct rtsup_cause *k, __u32 self)
 	o = json_pack("{s:s,s:s,s:I,s:o}", "kind", cause_kind_name(k->kind), "text", text,
 		      "ns", (json_int_t)k->ns, "who",
 		      k->who.tid || k->who.comm[0] ? json_who(&k->who, self) : json_null());
-	json_object_set_new(o, "parts", json_pack("{s:I,s:I,s:I,s:I,s:I,s:I}",
+	json_object_set_new(o, "parts", json_pack("{s:I,s:I,s:I,s:I,s:I,s:I,s:I}",
 		"timer_ns", (json_int_t)k->timer_ns, "wait_ns", (json_int_t)k->wait_ns,
 		"preempt_ns", (json_int_t)k->preempt_ns, "block_ns", (json_int_t)k->block_ns,
-		"backlog_ns", (json_int_t)k->backlog_ns, "cpu_ns", (json_int_t)k->cpu_ns));
+		"backlog_ns", (json_int_t)k->backlog_ns, "cpu_ns", (json_int_t)k->cpu_ns,
+		"steal_ns", (json_int_t)k->steal_ns));
 	json_object_set_new(o, "preemptions", json_integer(k->preempts));
 	json_object_set_new(o, "blocks", json_integer(k->blocks));
 	json_object_set_new(o, "idle_cpu", json_boolean(k->flags & RTSUP_CAUSE_F_IDLE));

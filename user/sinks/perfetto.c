@@ -236,6 +236,7 @@ static void cause_args(json_t *a, const struct rtsup_cause *c)
 	json_object_set_new(parts, "block_us", json_us(c->block_ns));
 	json_object_set_new(parts, "backlog_us", json_us(c->backlog_ns));
 	json_object_set_new(parts, "cpu_us", json_us(c->cpu_ns));
+	json_object_set_new(parts, "steal_us", json_us(c->steal_ns));
 	json_object_set_new(a, "parts", parts);
 	for (i = 0; i < RTSUP_CAUSE_TOP; i++) {
 		if (!c->top[i].ns)

@@ -477,7 +477,8 @@ int rec_next(struct rec_reader *r, enum rec_type *type, void *buf, size_t *len,
 	}
 	/* an event recorded before it carried its cause, or all of it: the rest is zero */
 	if (l16 != want && !(t16 == REC_EVENT && (l16 == REC_EVENT_NO_CAUSE ||
-						  l16 == REC_EVENT_CAUSE_1))) {
+						  l16 == REC_EVENT_CAUSE_1 ||
+						  l16 == REC_EVENT_CAUSE_2))) {
 		r_fail(r, "%s record of %u bytes, expected %zu", rec_type_name(t16), l16,
 		       want);
 		goto out;

@@ -24,6 +24,9 @@
 /* and before a cause said when and where (held_from on: Perfetto), and migrations */
 #define REC_EVENT_CAUSE_1	(offsetof(struct rtsup_event, cause) + \
 				 offsetof(struct rtsup_cause, held_from))
+/* and before a cause had the hypervisor's steal */
+#define REC_EVENT_CAUSE_2	(offsetof(struct rtsup_event, cause) + \
+				 offsetof(struct rtsup_cause, steal_ns))
 
 struct rec_header {
 	char kernel[128];	/* uname -r -v */

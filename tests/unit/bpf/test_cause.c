@@ -411,6 +411,61 @@ static void test_cause_exec_only_when_it_does_not_fit(void **state)
 	assert_int_equal(c.ns, 6 * MS);
 }
 
+/*
+ * the hypervisor's steal while the target ran: its own part, out of the
+ * CPU time; only across a switch-in and a switch-out on one CPU
+ */
+static void test_cause_steal_is_the_machines(void **state)
+{
+	struct rtsup_why w;
+	struct rtsup_cause c;
+
+	memset(&w, 0, sizeof(w));
+	why_steal_in(&w, 1, 100 * MS);
+	why_steal_out(&w, 1, 102 * MS);
+	assert_int_equal(w.cur.steal_ns, 2 * MS);
+	assert_int_equal(w.steal_cpu, 0);
+	why_steal_out(&w, 1, 109 * MS);	/* off CPU: no switch-in marked */
+	why_steal_in(&w, 1, 110 * MS);
+	why_steal_out(&w, 0, 900 * MS);	/* another CPU's counter: nothing */
+	why_steal_in(&w, 0, 900 * MS);
+	why_steal_out(&w, 0, 901 * MS);
+	assert_int_equal(w.cur.steal_ns, 3 * MS);
+	why_reset(&w.cur);
+	assert_int_equal(w.cur.steal_ns, 0);
+
+	/* 3 ms of work, 2.5 ms stolen inside it: 5.5 ms "on CPU" in a 5 ms period */
+	memset(&c, 0, sizeof(c));
+	c.steal_ns = 2500 * US;
+	c.timer_ns = 20 * US;
+	cause_pick(&c, 5500 * US, 5 * MS);
+	assert_int_equal(c.kind, RTSUP_CAUSE_STEAL);
+	assert_int_equal(c.ns, 2500 * US);
+	assert_int_equal(c.cpu_ns, 3 * MS);
+	assert_int_equal(c.who.tid, 0);
+	/* without the steal the same cycle is its own */
+	memset(&c, 0, sizeof(c));
+	c.timer_ns = 20 * US;
+	cause_pick(&c, 5500 * US, 5 * MS);
+	assert_int_equal(c.kind, RTSUP_CAUSE_EXEC);
+	/* a preemption longer than the steal wins */
+	memset(&c, 0, sizeof(c));
+	c.steal_ns = 1 * MS;
+	c.preempt_ns = 4 * MS;
+	cause_pick(&c, 3 * MS, 5 * MS);
+	assert_int_equal(c.kind, RTSUP_CAUSE_PREEMPT);
+	assert_int_equal(c.cpu_ns, 2 * MS);
+	/* a tie goes to the machine; no more is stolen than its time on CPU */
+	memset(&c, 0, sizeof(c));
+	c.steal_ns = 9 * MS;
+	c.timer_ns = 1 * MS;
+	cause_pick(&c, 1 * MS, 5 * MS);
+	assert_int_equal(c.kind, RTSUP_CAUSE_STEAL);
+	assert_int_equal(c.ns, 1 * MS);
+	assert_int_equal(c.steal_ns, 1 * MS);
+	assert_int_equal(c.cpu_ns, 0);
+}
+
 /* a second target may wait on the same CPU; a third is counted, not mixed in */
 static void test_cause_slots_keep_each_wait(void **state)
 {
@@ -442,6 +497,7 @@ int main(void)
 		cmocka_unit_test(test_cause_preemptions_summed),
 		cmocka_unit_test(test_cause_block_inversion),
 		cmocka_unit_test(test_cause_exec_only_when_it_does_not_fit),
+		cmocka_unit_test(test_cause_steal_is_the_machines),
 		cmocka_unit_test(test_cause_slots_keep_each_wait),
 	};
 

@@ -84,6 +84,11 @@ static void test_causes_text(void **state)
 	causes_text(buf, sizeof(buf), c.kind, RTSUP_CAUSE_F_IDLE, c.ns, &c.who, &c, 0);
 	assert_string_equal(buf, "woken 4.600 ms after its release: machine / timer latency "
 				 "(idle CPU: idle exit)");
+	c = cause(RTSUP_CAUSE_STEAL, 0, "", 2500000);
+	causes_text(buf, sizeof(buf), c.kind, 0, c.ns, &c.who, &c, 0);
+	assert_string_equal(buf, "the hypervisor ran something else on its vCPU for 2.500 ms "
+				 "while it ran: machine latency (steal)");
+	assert_string_equal(cause_kind_name(RTSUP_CAUSE_STEAL), "steal");
 }
 
 /* the verdict's short form: the top group of each thread, interval and life */

@@ -627,14 +627,15 @@ static void test_record_size_mismatch(void **state)
 
 /*
  * an event recorded before events carried a cause (len REC_EVENT_NO_CAUSE),
- * or before a cause said when and where (REC_EVENT_CAUSE_1): read, the
- * rest zero
+ * before a cause said when and where (REC_EVENT_CAUSE_1), or before it had
+ * the hypervisor's steal (REC_EVENT_CAUSE_2): read, the rest zero
  */
 static void old_event(void **state, __u16 len)
 {
 	unsigned char payload_buf[REC_MAX_PAYLOAD], *b;
 	struct rtsup_event e = { .ts = 5, .type = RTSUP_EV_MISS, .tid = 7, .arg = 42,
-				 .cause = { .kind = RTSUP_CAUSE_TIMER, .held_to = 9 } };
+				 .cause = { .kind = RTSUP_CAUSE_TIMER, .held_to = 9,
+					   .steal_ns = 11 } };
 	__u16 t = REC_EVENT;
 	struct fx *f = *state;
 	struct rec_reader *r;
@@ -670,7 +671,8 @@ static void old_event(void **state, __u16 len)
 	assert_int_equal(e.cause.kind, len == REC_EVENT_NO_CAUSE ? RTSUP_CAUSE_NONE :
 				       RTSUP_CAUSE_TIMER);
 	assert_int_equal(e.cause.who.tid, 0);
-	assert_int_equal(e.cause.held_to, 0);
+	assert_int_equal(e.cause.held_to, len == REC_EVENT_CAUSE_2 ? 9 : 0);
+	assert_int_equal(e.cause.steal_ns, 0);
 	assert_int_equal(n, 1);
 	rec_free(r);
 	free(h.config_text);
@@ -680,6 +682,7 @@ static void test_record_event_without_cause(void **state)
 {
 	old_event(state, REC_EVENT_NO_CAUSE);
 	old_event(state, REC_EVENT_CAUSE_1);
+	old_event(state, REC_EVENT_CAUSE_2);
 }
 
 /* headers that are cut, too long, not JSON, not an object, mistyped */
