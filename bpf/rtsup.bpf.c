@@ -288,26 +288,38 @@ static __always_inline void zero_mem(void *p, __u32 n)
 		bpf_probe_read_kernel(p, n, tmpl);
 }
 
+/* CPUs whose steal counter's address is kept (cpu_steal); others read none */
+#define STEAL_CPUS	1024
+
+/* each CPU's steal counter's address, found at its first read; 0 = not yet */
+__u64 steal_at[STEAL_CPUS];
+
 /*
  * cpu_steal - this CPU's steal counter (KVM's steal_time.steal: what the
  * host ran instead of this vCPU, ns), for targets only (cause.h,
- * why_steal_in). Found from this CPU's run queue, reached through the
- * current task, at cfg_steal_off (loader.c); 0 where the kernel has none,
- * or where the run queue is not this CPU's.
+ * why_steal_in). It lies at cfg_steal_off (loader.c) from this CPU's run
+ * queue, found once through the current task and checked against the CPU;
+ * then one read. 0 where the kernel has none, or the run queue is not this
+ * CPU's.
  */
 static __always_inline __u64 cpu_steal(__u32 cpu)
 {
 	struct task_struct *task;
-	__u64 steal = 0;
+	__u64 steal = 0, at;
 	struct rq *rq;
 
-	if (!cfg_steal_off)
+	if (!cfg_steal_off || cpu >= STEAL_CPUS)
 		return 0;
-	task = (struct task_struct *)bpf_get_current_task();
-	rq = BPF_CORE_READ(task, se.cfs_rq, rq);
-	if (!rq || BPF_CORE_READ(rq, cpu) != (int)cpu)
-		return 0;
-	bpf_probe_read_kernel(&steal, sizeof(steal), (void *)rq + cfg_steal_off);
+	at = steal_at[cpu];
+	if (!at) {
+		task = (struct task_struct *)bpf_get_current_task();
+		rq = BPF_CORE_READ(task, se.cfs_rq, rq);
+		if (!rq || BPF_CORE_READ(rq, cpu) != (int)cpu)
+			return 0;
+		at = (__u64)rq + cfg_steal_off;
+		steal_at[cpu] = at;
+	}
+	bpf_probe_read_kernel(&steal, sizeof(steal), (void *)at);
 	return steal;
 }
 

@@ -106,18 +106,37 @@ static long long percpu_var_off(const struct btf *kbtf, const char *name)
 	return -1;
 }
 
+/* stolen_since_boot - the machine's steal time so far (/proc/stat), 0 when none or unread */
+static unsigned long long stolen_since_boot(void)
+{
+	unsigned long long v[8] = { 0 };
+	FILE *f = fopen("/proc/stat", "r");
+	int n = 0;
+
+	if (f) {
+		n = fscanf(f, "cpu %llu %llu %llu %llu %llu %llu %llu %llu", &v[0], &v[1], &v[2],
+			   &v[3], &v[4], &v[5], &v[6], &v[7]);
+		fclose(f);
+	}
+	return n == 8 ? v[7] : 0;
+}
+
 /*
  * steal_offset - where KVM's per-CPU steal time is from a CPU's run queue:
  * both are per-CPU variables, a fixed distance apart in every CPU's copy.
  * BPF reaches the run queue through the current task and cannot name
  * steal_time itself (a static: not in kallsyms without KALLSYMS_ALL).
- * 0 where the kernel has no steal_time (not x86, not a KVM guest kernel).
+ * 0 where the kernel has no steal_time (not x86, not a KVM guest kernel),
+ * and where nothing was ever stolen (bare metal, a host that gives no steal
+ * time): there its reads, two a cycle, would cost every target for nothing.
  */
 static long long steal_offset(const struct btf *kbtf)
 {
 	long long rq = percpu_var_off(kbtf, "runqueues"), st = percpu_var_off(kbtf, "steal_time");
 
-	return rq >= 0 && st >= 0 && st != rq ? st - rq : 0;
+	if (rq < 0 || st < 0 || st == rq || !stolen_since_boot())
+		return 0;
+	return st - rq;
 }
 
 /*
