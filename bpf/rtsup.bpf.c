@@ -915,12 +915,12 @@ static __always_inline struct cycle_switch_rec *held_switch_in(void)
 static __always_inline void settle(struct rtsup_thread *t, struct cycle_switch_rec *r)
 {
 	/* cycle_settle leaves the record's time and CPU as they were */
-	if (!r || r->tid != t->tid)
-		goto settled;
-	why_steal_in(&t->why, r->cpu, r->steal);
-	if (cycle_settle(t, r) & CYC_EV_MIGRATE)
-		emit(RTSUP_EV_UNSAFE, t, r->now, RTSUP_U_MIGRATE, why_migrated(&t->why, r->cpu));
-settled:
+	if (r && r->tid == t->tid) {
+		why_steal_in(&t->why, r->cpu, r->steal);
+		if (cycle_settle(t, r) & CYC_EV_MIGRATE)
+			emit(RTSUP_EV_UNSAFE, t, r->now, RTSUP_U_MIGRATE,
+			     why_migrated(&t->why, r->cpu));
+	}
 	why_settle(t);
 }
 

@@ -86,23 +86,18 @@ static bool has_function(const struct btf *kbtf, const char *name)
 /* percpu_var_off - a per-CPU variable's offset in the per-CPU area (BTF), -1: none */
 static long long percpu_var_off(const struct btf *kbtf, const char *name)
 {
-	int id, n = kbtf ? (int)btf__type_cnt(kbtf) : 0;
+	int i, id = kbtf ? btf__find_by_name_kind(kbtf, ".data..percpu", BTF_KIND_DATASEC) : -1;
+	const struct btf_var_secinfo *v;
+	const struct btf_type *t;
 
-	for (id = 1; id < n; id++) {
-		const struct btf_type *t = btf__type_by_id(kbtf, id);
-		const struct btf_var_secinfo *v;
-		int i;
-
-		if (!btf_is_datasec(t) || strcmp(btf__name_by_offset(kbtf, t->name_off),
-						 ".data..percpu"))
-			continue;
-		v = btf_var_secinfos(t);
-		for (i = 0; i < btf_vlen(t); i++, v++)
-			if (!strcmp(btf__name_by_offset(kbtf, btf__type_by_id(kbtf, v->type)->name_off),
-				    name))
-				return v->offset;
+	if (id <= 0)
 		return -1;
-	}
+	t = btf__type_by_id(kbtf, id);
+	v = btf_var_secinfos(t);
+	for (i = 0; i < btf_vlen(t); i++, v++)
+		if (!strcmp(btf__name_by_offset(kbtf, btf__type_by_id(kbtf, v->type)->name_off),
+			    name))
+			return v->offset;
 	return -1;
 }
 
@@ -126,17 +121,16 @@ static unsigned long long stolen_since_boot(void)
  * both are per-CPU variables, a fixed distance apart in every CPU's copy.
  * BPF reaches the run queue through the current task and cannot name
  * steal_time itself (a static: not in kallsyms without KALLSYMS_ALL).
- * 0 where the kernel has no steal_time (not x86, not a KVM guest kernel),
- * and where nothing was ever stolen (bare metal, a host that gives no steal
- * time): there its reads, two a cycle, would cost every target for nothing.
+ * 0 where the kernel has no steal_time (not x86, not a KVM guest kernel).
+ * The caller asks only where something was ever stolen (stolen_since_boot):
+ * elsewhere (bare metal, a host that gives no steal time) its reads, two a
+ * cycle, would cost every target for nothing.
  */
 static long long steal_offset(const struct btf *kbtf)
 {
 	long long rq = percpu_var_off(kbtf, "runqueues"), st = percpu_var_off(kbtf, "steal_time");
 
-	if (rq < 0 || st < 0 || st == rq || !stolen_since_boot())
-		return 0;
-	return st - rq;
+	return rq >= 0 && st >= 0 && st != rq ? st - rq : 0;
 }
 
 /*
@@ -257,6 +251,7 @@ int loader_start(struct loader *l, const struct options *o)
 	struct rtsup_bpf *s;
 	struct bpf_program *p;
 	struct btf *kbtf;
+	bool stolen;
 	int err, i;
 
 	memset(l, 0, sizeof(*l));
@@ -275,7 +270,9 @@ int loader_start(struct loader *l, const struct options *o)
 		return -1;
 	}
 	l->skel = s;
-	kbtf = btf__load_vmlinux_btf();
+	stolen = stolen_since_boot() != 0;
+	/* the kernel's BTF only for what reads it: tp_btf, --stacks, the steal */
+	kbtf = !o->raw_tp || o->stack_any || stolen ? btf__load_vmlinux_btf() : NULL;
 	l->tp_btf = !o->raw_tp && probe_tp_btf(kbtf);
 	/* where in the code of page faults: x86's exceptions:page_fault_user */
 	l->fault_stacks = o->stack_any && has_tracepoint(kbtf, "page_fault_user");
@@ -285,7 +282,7 @@ int loader_start(struct loader *l, const struct options *o)
 	/* --rt: policy changes found where they happen, not at every switch */
 	l->rt_hook = o->targets.rt && l->tp_btf && !rt_hook_failed &&
 		     has_function(kbtf, RTSUP_RT_HOOK_FN);
-	s->rodata->cfg_steal_off = steal_offset(kbtf);
+	s->rodata->cfg_steal_off = stolen ? steal_offset(kbtf) : 0;
 	btf__free(kbtf);
 	/* the targets' attributes in one read a sample, where tracing programs load */
 	l->attrs_iter = l->tp_btf && !attrs_iter_failed && !o->floor;
