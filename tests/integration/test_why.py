@@ -332,14 +332,22 @@ def test_machine_latency_is_named(bpf):
     assert all(g["who"] is None and "idle CPU" in g["text"] for g in timer), timer
     # a late wakeup of 50 ms (more than 2 periods) ends its cycle past the
     # next release: a miss whose biggest part is the timer's (the wait
-    # after it, on an idle CPU, is the switch-in alone). And a timer miss
-    # is a cycle that slept and missed, as why-rt counted them (its check
-    # and its syscall entry are apart by a few instructions: a release
-    # between them is a miss for the tracer only; none expected in 7 s)
-    assert len(big) <= count(timer) <= truth["slept_misses"], (truth, gs)
+    # after it, on an idle CPU, is the switch-in alone). But a hold that
+    # begins between the timer's wakeup and why-rt's switch-in (a window
+    # of tens of us in a TCG guest: about 0.3 % of a period, per hold)
+    # makes the wait the biggest part: behind no task, on the idle CPU,
+    # the machine's too (a CI run: 8 late wakeups, 7 timer misses and
+    # 1 such wait). A machine miss is a cycle that slept and missed, as
+    # why-rt counted them (its check and its syscall entry are apart by a
+    # few instructions: a release between them is a miss for the tracer
+    # only; none expected in 7 s)
+    idle_waits = [g for g in gs if g["kind"] == "wait" and g["who"] is None]
+    assert all("for its idle CPU: machine latency" in g["text"] for g in idle_waits), idle_waits
+    machine = timer + idle_waits
+    assert len(big) <= count(machine) <= truth["slept_misses"], (truth, gs)
     # why-rt saw each wakeup after the tracer did (the way back to user
-    # space): its lateness bounds the timer part from above
-    assert max(g["max_ns"] for g in timer) <= max(late), (truth, timer)
+    # space): its lateness bounds the machine's part from above
+    assert max(g["max_ns"] for g in machine) <= max(late), (truth, machine)
     assert max(g["max_ns"] for g in timer) >= (HOLD_MS - 20) * MS, timer
     # the releases a hold swallowed: backlogs behind no task (they inherit
     # the late cycle's culprit: none). A hold of d ns holds floor(d / 20 ms)
@@ -351,10 +359,10 @@ def test_machine_latency_is_named(bpf):
     # task follow the guest's own noise (a task that held why-rt's CPU):
     # not the holds' business
     machine_backlogs = [g for g in gs if g["kind"] == "backlog" and g["who"] is None
-                        and g["after"] == "timer"]
+                        and g["after"] in ("timer", "wait")]
     per_hold = [d // (MACHINE_PERIOD_MS * MS) - 2 for d in held]
     assert count(machine_backlogs) >= sum(per_hold) - max(per_hold), (truth, gs, held)
-    assert all("(machine / timer latency)" in g["text"] for g in machine_backlogs), gs
+    assert all("(machine" in g["text"] for g in machine_backlogs), gs
     # the verdicts name the machine, the backlogs counted with the late
     # wakeups they follow (a hold's interval: the late wakeup and its
     # backlogs, 1 + 3 misses at least for a 100 ms hold)

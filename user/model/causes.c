@@ -185,7 +185,7 @@ static const char *after_text(__u32 after)
 	case RTSUP_CAUSE_TIMER:
 		return " (machine / timer latency)";
 	case RTSUP_CAUSE_WAIT:
-		return " (machine latency: idle exit)";
+		return " (machine latency: idle exit, interrupts or hypervisor)";
 	case RTSUP_CAUSE_EXEC:
 		return " (its own CPU time)";
 	case RTSUP_CAUSE_STEAL:
@@ -203,10 +203,13 @@ static void causes_text_kind(char *buf, size_t len, __u32 kind, __u32 flags, __u
 	double ms = ns / 1e6;
 
 	cause_who_text(w, sizeof(w), who, self);
-	/* the idle task held the CPU: it was slow to leave its idle state */
+	/*
+	 * the idle task held the CPU: slow to leave its idle state, or held by
+	 * interrupts or the hypervisor between the wakeup and the switch
+	 */
 	if (kind == RTSUP_CAUSE_WAIT && !who->tid) {
 		snprintf(buf, len, "woken, then waited %.3f ms for its idle CPU: machine latency "
-			 "(idle exit)", ms);
+			 "(idle exit, interrupts or hypervisor)", ms);
 		return;
 	}
 	switch (kind) {
@@ -278,7 +281,7 @@ static const char *machine(__u32 kind)
 	case RTSUP_CAUSE_TIMER:
 		return "machine / timer latency";
 	case RTSUP_CAUSE_WAIT:
-		return "machine latency (idle exit)";
+		return "machine latency (idle CPU)";
 	case RTSUP_CAUSE_EXEC:
 		return "its own CPU time";
 	case RTSUP_CAUSE_STEAL:

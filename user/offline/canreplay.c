@@ -55,7 +55,8 @@ static __u32 iface_index(struct can_replay *r, const char *name)
 	f = can_iface_get(&r->m, 0, r->m.nifs + 1, true);
 	if (!f)
 		return 0;
-	snprintf(f->name, sizeof(f->name), "%s", name);
+	/* a log's name longer than an interface's is cut, as the kernel would */
+	snprintf(f->name, sizeof(f->name), "%.*s", (int)sizeof(f->name) - 1, name);
 	f->bitrate = r->o->can_bitrate ? r->o->can_bitrate : r->s->cfg.can.bitrate;
 	return f->ifindex;
 }

@@ -84,6 +84,11 @@ static void test_causes_text(void **state)
 	causes_text(buf, sizeof(buf), c.kind, RTSUP_CAUSE_F_IDLE, c.ns, &c.who, &c, 0);
 	assert_string_equal(buf, "woken 4.600 ms after its release: machine / timer latency "
 				 "(idle CPU: idle exit)");
+	/* a wait behind no task: the idle task held the CPU, the machine's */
+	c = cause(RTSUP_CAUSE_WAIT, 0, "", 90 * MS);
+	causes_text(buf, sizeof(buf), c.kind, RTSUP_CAUSE_F_IDLE, c.ns, &c.who, &c, 0);
+	assert_string_equal(buf, "woken, then waited 90.000 ms for its idle CPU: machine latency "
+				 "(idle exit, interrupts or hypervisor)");
 	c = cause(RTSUP_CAUSE_STEAL, 0, "", 2500000);
 	causes_text(buf, sizeof(buf), c.kind, 0, c.ns, &c.who, &c, 0);
 	assert_string_equal(buf, "the hypervisor ran something else on its vCPU for 2.500 ms "
