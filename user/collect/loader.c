@@ -215,6 +215,18 @@ static bool rt_hook_failed;
 /* the same for the task iterator (an old kernel): the collector asks per thread */
 static bool attrs_iter_failed;
 
+/* prog_info - a program's info from the kernel: 0, 1 when it is not loaded, -1 unreadable */
+static int prog_info(const struct bpf_program *p, struct bpf_prog_info *info)
+{
+	__u32 len = sizeof(*info);
+	int fd = bpf_program__fd(p);
+
+	if (fd < 0)
+		return 1;
+	memset(info, 0, sizeof(*info));
+	return bpf_obj_get_info_by_fd(fd, info, &len) ? -1 : 0;
+}
+
 /*
  * print_verified - -v: how many instructions the verifier walked per program
  * (the kernel's verified_insns, 5.16 and later). That walk is most of a
@@ -227,14 +239,9 @@ static void print_verified(const struct bpf_object *obj)
 	char line[2048];
 	size_t n = 0;
 	__u64 total = 0;
-	__u32 len;
 
 	bpf_object__for_each_program(p, obj) {
-		int fd = bpf_program__fd(p);
-
-		memset(&info, 0, sizeof(info));
-		len = sizeof(info);
-		if (fd < 0 || bpf_obj_get_info_by_fd(fd, &info, &len) || !info.verified_insns)
+		if (prog_info(p, &info) || !info.verified_insns)
 			continue;
 		total += info.verified_insns;
 		if (n < sizeof(line))
@@ -410,19 +417,14 @@ static int prog_info_sums(const struct loader *l, __u64 *run_time, __u64 *missed
 {
 	struct bpf_prog_info info;
 	struct bpf_program *p;
-	__u32 len;
-	int err = 0;
+	int err = 0, r;
 
 	*run_time = *missed = 0;
 	bpf_object__for_each_program(p, l->floor ? l->floor->obj : l->skel->obj) {
-		int fd = bpf_program__fd(p);
-
-		if (fd < 0)
-			continue;	/* the program set we did not load */
-		memset(&info, 0, sizeof(info));
-		len = sizeof(info);
-		if (bpf_obj_get_info_by_fd(fd, &info, &len)) {
-			err = -1;
+		r = prog_info(p, &info);
+		if (r) {
+			/* 1: the program set we did not load */
+			err = r < 0 ? -1 : err;
 			continue;
 		}
 		*run_time += info.run_time_ns;
