@@ -344,7 +344,13 @@ def test_machine_latency_is_named(bpf):
     idle_waits = [g for g in gs if g["kind"] == "wait" and g["who"] is None]
     assert all("for its idle CPU: machine latency" in g["text"] for g in idle_waits), idle_waits
     machine = timer + idle_waits
-    assert len(big) <= count(machine) <= truth["slept_misses"], (truth, gs)
+    # and a hold that begins after why-rt's switch-in, before it reads its
+    # clock: why-rt sees a late wakeup, but the guest's kernel saw it run
+    # through the hold (a TCG guest has no steal time): its own CPU time,
+    # `exec` (a CI run: 8 late wakeups, 7 timer misses and 1 exec miss)
+    held_runs = [g for g in gs if g["kind"] == "exec"]
+    assert len(big) <= count(machine) + count(held_runs), (truth, gs)
+    assert count(machine) <= truth["slept_misses"], (truth, gs)
     # why-rt saw each wakeup after the tracer did (the way back to user
     # space): its lateness bounds the machine's part from above
     assert max(g["max_ns"] for g in machine) <= max(late), (truth, machine)
