@@ -422,11 +422,10 @@ static int prog_info_sums(const struct loader *l, __u64 *run_time, __u64 *missed
 	*run_time = *missed = 0;
 	bpf_object__for_each_program(p, l->floor ? l->floor->obj : l->skel->obj) {
 		r = prog_info(p, &info);
-		if (r) {
-			/* 1: the program set we did not load */
-			err = r < 0 ? -1 : err;
-			continue;
-		}
+		if (r < 0)
+			err = -1;
+		if (r)
+			continue;	/* unreadable, or the program set we did not load */
 		*run_time += info.run_time_ns;
 		*missed += info.recursion_misses;
 	}

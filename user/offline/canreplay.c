@@ -55,7 +55,7 @@ static __u32 iface_index(struct can_replay *r, const char *name)
 	f = can_iface_get(&r->m, 0, r->m.nifs + 1, true);
 	if (!f)
 		return 0;
-	/* a log's name longer than an interface's is cut, as the kernel would */
+	/* a log's name longer than an interface name can be is cut to fit */
 	snprintf(f->name, sizeof(f->name), "%.*s", (int)sizeof(f->name) - 1, name);
 	f->bitrate = r->o->can_bitrate ? r->o->can_bitrate : r->s->cfg.can.bitrate;
 	return f->ifindex;
