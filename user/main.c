@@ -415,7 +415,7 @@ static int run_live(struct options *o, struct supervisor *s)
 			if (ov.rt0 >= 0 && ov.end < until)
 				until = ov.end;
 			ms = (until - now) / 1000000 + 1;
-			if (collector_poll(&c, ms > 100 ? 100 : ms) < 0)
+			if (collector_poll(&c, ms > COLLECTOR_POLL_MAX_MS ? COLLECTOR_POLL_MAX_MS : ms) < 0)
 				break;
 			continue;
 		}

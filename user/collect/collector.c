@@ -14,6 +14,7 @@
 #include "collect/collector.h"
 #include "collect/clockwatch.h"
 #include "collect/liveness.h"
+#include "collect/mapprune.h"
 #include "cycle.h"
 #include "rtfollow.h"
 #include "collect/targets.h"
@@ -720,6 +721,21 @@ static int cmp_tid(const void *a, const void *b)
 	return x < y ? -1 : x > y;
 }
 
+/* the dead threads' tids, sorted, for the prunes of collector_reap */
+struct tid_set {
+	const __u32 *tids;
+	int n;
+};
+
+static bool sys_of_dead(const void *key, const void *value, void *ctx)
+{
+	const struct rtsup_sys_key *k = key;
+	const struct tid_set *d = ctx;
+
+	(void)value;
+	return bsearch(&k->tid, d->tids, d->n, sizeof(*d->tids), cmp_tid);
+}
+
 /*
  * forget_sys - drop the unsafe syscall entries of the dead threads tids[n]
  * (sorted) in one pass over the map: a pass per thread cost a storm of
@@ -727,19 +743,11 @@ static int cmp_tid(const void *a, const void *b)
  */
 static void forget_sys(struct collector *c, const __u32 *tids, int n)
 {
-	int fd = bpf_map__fd(c->skel->maps.unsafe_sys);
-	struct rtsup_sys_key key, next, *prev = NULL;
+	struct tid_set d = { tids, n };
 
-	if (!n)
-		return;
-	while (!bpf_map_get_next_key(fd, prev, &next)) {
-		key = next;
-		if (bsearch(&key.tid, tids, n, sizeof(*tids), cmp_tid)) {
-			bpf_map_delete_elem(fd, &key);
-			continue;	/* restart after the deleted key */
-		}
-		prev = &key;
-	}
+	if (n)
+		map_prune(bpf_map__fd(c->skel->maps.unsafe_sys), sizeof(struct rtsup_sys_key),
+			  sizeof(__u64), sys_of_dead, &d);
 }
 
 /* same_thread - does the kernel entry of tm's tid still belong to tm's thread? */
@@ -751,26 +759,23 @@ static bool same_thread(struct collector *c, int fd, const struct thread_model *
 	return c->batch_vals->first_seen == tm->cur.first_seen;
 }
 
-/* forget_untracked - threads not tracked that are gone: their tid may come back */
-static void forget_untracked(struct collector *c)
+/* untracked_gone - an untracked thread (key: tid, value: tgid) that is gone */
+static bool untracked_gone(const void *key, const void *value, void *ctx)
 {
-	int fd = bpf_map__fd(c->skel->maps.untracked);
-	__u32 key, next, tgid, *prev = NULL;
+	(void)ctx;
+	return thread_gone(*(const __u32 *)value, *(const __u32 *)key);
+}
 
-	while (!bpf_map_get_next_key(fd, prev, &next)) {
-		key = next;
-		if (!bpf_map_lookup_elem(fd, &key, &tgid) && thread_gone(tgid, key)) {
-			bpf_map_delete_elem(fd, &key);
-			continue;	/* restart after the deleted key */
-		}
-		prev = &key;
-	}
+static bool process_gone(const void *key, const void *value, void *ctx)
+{
+	(void)value;
+	(void)ctx;
+	return !process_exists(*(const __u32 *)key);
 }
 
 void collector_reap(struct collector *c)
 {
-	int fd = bpf_map__fd(c->skel->maps.threads), tfd = bpf_map__fd(c->skel->maps.tgids);
-	__u32 key, next, *prev = NULL;
+	int fd = bpf_map__fd(c->skel->maps.threads);
 	__u32 *dead = malloc((c->model.n ? c->model.n : 1) * sizeof(*dead));
 	int i, j, ndead = 0;
 
@@ -789,8 +794,11 @@ void collector_reap(struct collector *c)
 		if (!same_thread(c, fd, tm))
 			continue;	/* a new thread has the tid already (add_thread) */
 		bpf_map_delete_elem(fd, &tm->tid);
-		bpf_map_delete_elem(bpf_map__fd(c->skel->maps.thread_cfg), &tm->tid);
-		bpf_map_delete_elem(bpf_map__fd(c->skel->maps.stack_cfg), &tm->tid);
+		/* only if written: a storm's threads, dead before, cost no syscall */
+		if (tm->cfg_in_kernel) {
+			bpf_map_delete_elem(bpf_map__fd(c->skel->maps.thread_cfg), &tm->tid);
+			bpf_map_delete_elem(bpf_map__fd(c->skel->maps.stack_cfg), &tm->tid);
+		}
 		if (dead)
 			dead[ndead++] = tm->tid;
 		else
@@ -801,27 +809,16 @@ void collector_reap(struct collector *c)
 	forget_sys(c, dead, ndead);
 	free(dead);
 	model_prune_dead(&c->model, MODEL_KEEP_DEAD);
-	forget_untracked(c);
+	/* threads not tracked that are gone: their tid may come back */
+	map_prune(bpf_map__fd(c->skel->maps.untracked), sizeof(__u32), sizeof(__u32),
+		  untracked_gone, NULL);
 	/* processes that are gone must not match a reused pid */
-	while (!bpf_map_get_next_key(tfd, prev, &next)) {
-		key = next;
-		if (!process_exists(key)) {
-			bpf_map_delete_elem(tfd, &key);
-			continue;
-		}
-		prev = &key;
-	}
+	map_prune(bpf_map__fd(c->skel->maps.tgids), sizeof(__u32), sizeof(__u32), process_gone,
+		  NULL);
 	/* and auto's verdicts with them (the unwinder keeps its own) */
-	tfd = bpf_map__fd(c->skel->maps.stack_auto);
-	prev = NULL;
-	while (c->o->stack_auto && !bpf_map_get_next_key(tfd, prev, &next)) {
-		key = next;
-		if (!process_exists(key)) {
-			bpf_map_delete_elem(tfd, &key);
-			continue;
-		}
-		prev = &key;
-	}
+	if (c->o->stack_auto)
+		map_prune(bpf_map__fd(c->skel->maps.stack_auto), sizeof(__u32), sizeof(__u32),
+			  process_gone, NULL);
 }
 
 /* syscall_list - names to numbers for the kernel; unknown names were rejected at load */
@@ -876,6 +873,7 @@ void collector_apply_rules(struct collector *c, const struct supervisor *s)
 					 r->nallow);
 		tc.nforbid = syscall_list(tc.forbid, RTSUP_CFG_SYSCALLS, (char (*)[32])r->forbid,
 					  r->nforbid);
+		tm->cfg_in_kernel = true;
 		stack_cfg_apply(c, tm, r);
 		/* the hooks look thread_cfg up only from now on */
 		c->skel->bss->thread_cfg_used = 1;

@@ -24,6 +24,11 @@ struct stack_maps;
 #define COLLECTOR_BATCH 64
 /* A poll consumes events for its wait or this long, whichever is longer (poll_over). */
 #define COLLECTOR_POLL_MIN_MS 10
+/*
+ * The loop polls at least this often: the kernel wakes it only for a
+ * quarter-full ring buffer (rb_wakeup), so no event waits longer.
+ */
+#define COLLECTOR_POLL_MAX_MS 100
 
 /* process names remembered within one sample: a slot per tgid modulo this */
 #define COLLECTOR_PNAMES 64

@@ -98,6 +98,7 @@ struct thread_model {
 	int rule;			/* index of the matching rule, -1 = defaults */
 	__u32 rule_gen;			/* config generation 'rule' belongs to, 0 = none */
 	__u32 cfg_gen;			/* config generation written to the kernel */
+	bool cfg_in_kernel;		/* thread_cfg or stack_cfg may hold its tid */
 	__u32 restarted_from;		/* tid of the dead instance it replaces */
 	bool replaced;			/* a restarted instance took its place */
 	bool was_rt;			/* it ran with an RT policy at some point */
