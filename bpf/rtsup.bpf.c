@@ -52,6 +52,7 @@ static __always_inline void zero_mem(void *p, __u32 n);
 #define S_IFREG		0100000
 #define S_IFCHR		0020000
 #define EEXIST		17
+#define SIGNAL_GROUP_EXIT	0x00000004	/* include/linux/sched/signal.h, since 2.6 */
 
 /* Settings, written by userspace between open and load. */
 const volatile __u32 cfg_ewma_w = 102;	/* 0.1 of RTSUP_EWMA_ONE */
@@ -394,8 +395,11 @@ static __always_inline int in_list(const __u16 *list, __u32 n, __u32 max, __u32 
  */
 static __always_inline __u64 rb_wakeup(void *rb)
 {
-	return bpf_ringbuf_query(rb, BPF_RB_AVAIL_DATA) >= bpf_ringbuf_query(rb, BPF_RB_RING_SIZE) / 4 ?
-		       BPF_RB_FORCE_WAKEUP : BPF_RB_NO_WAKEUP;
+	__u64 quarter = bpf_ringbuf_query(rb, BPF_RB_RING_SIZE) / 4;
+
+	if (bpf_ringbuf_query(rb, BPF_RB_AVAIL_DATA) >= quarter)
+		return BPF_RB_FORCE_WAKEUP;
+	return BPF_RB_NO_WAKEUP;
 }
 
 /*
@@ -1651,6 +1655,8 @@ static __always_inline int on_exit(struct task_struct *task)
 	cycle_exit(t, now, BPF_CORE_READ(task, min_flt), BPF_CORE_READ(task, maj_flt));
 	note_wake(t);
 	t->exit_code = BPF_CORE_READ(task, exit_code);
+	/* the whole process ends, not this thread alone (checks.c: a clean end) */
+	t->exit_group = !!(BPF_CORE_READ(task, signal, flags) & SIGNAL_GROUP_EXIT);
 	emit(RTSUP_EV_EXIT, t, now, t->exit_mid_cycle, t->exit_code);
 	return 0;
 }

@@ -401,7 +401,7 @@ struct rtsup_thread {
 	__s32 exit_code;	/* task exit code: signal in bits 0-6, status in 8-15 */
 	__u32 unseen_in;	/* activations begun with no switch-in seen (cycle_running) */
 	__u32 rt;		/* --rt: RTSUP_RT_ONLY, RTSUP_RT_LEFT (rtfollow.h) */
-	__u32 rt_pad;
+	__u32 exit_group;	/* its process ended with it (exit_group, a fatal signal) */
 	__u64 compat_sys;	/* 32-bit syscalls (ia32, arm32): other numbers, not classified */
 	struct rtsup_metric_stats m[RTSUP_M_NR];
 	struct rtsup_why why;	/* cause attribution (cause.h) */

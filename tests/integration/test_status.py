@@ -181,6 +181,46 @@ def test_thread_death_is_an_error_and_says_so(tmp_path):
     assert any("thread exited inside a cycle" in v["what"] for v in summary["violations"])
 
 
+@pytest.mark.parametrize("stop", ["clean", "killed"])
+def test_process_end_is_no_death(tmp_path, stop):
+    """A supervised program that ends (its main returns: exit_group(0)) is
+    no death: each thread is STALE, "its process ended with status 0", none
+    ERROR; the same program killed by a signal is an ERROR for each. The
+    generator's threads sleep in their delimiter when it ends (--hold)."""
+    prefix = unique_prefix()
+    cfg = write(tmp_path, "rt.yaml", CLEAN.replace("PREFIX", prefix))
+    tr = Trace(["--config", str(cfg), "--comm", prefix + "-0", "--comm", prefix + "-1",
+                "-i", "300ms"])
+    # pinned: no migration noise could make a clean run's worst level ERROR
+    lg = Loadgen(tmp_path, ["--name", prefix, "-c", "300"] + PINNED)
+    try:
+        truth = lg.summary()
+        if stop == "clean":
+            lg.stop()  # SIGTERM: --hold's sigwait takes it, main returns 0
+            assert lg.proc.returncode == 0
+        else:
+            lg.proc.kill()
+            lg.proc.wait(timeout=30)
+        time.sleep(0.4)  # an interval to report the exits
+        _, summary, _ = tr.stop()
+    finally:
+        lg.stop()
+    got = threads_by_tid(summary)
+    for t in truth["threads"]:
+        x = got[t["tid"]]
+        assert not x["alive"] and x["process_ended"] is True, x
+        texts = [c["text"] for c in x["status"]["checks"]]
+        if stop == "clean":
+            assert x["exit_code"] == 0, x
+            assert "exited: its process ended with status 0" in texts, texts
+            assert x["status"]["level"] == "STALE", x["status"]
+            assert x["worst_level"] != "ERROR", x
+        else:
+            assert x["exit_code"] == signal.SIGKILL, x
+            assert any(s.startswith("killed by signal 9") for s in texts), texts
+            assert x["worst_level"] == "ERROR", x
+
+
 def test_sighup_reload_turns_ok_into_warn(tmp_path):
     prefix = unique_prefix()
     cfg = write(tmp_path, "rt.yaml", CLEAN.replace("PREFIX", prefix))

@@ -52,7 +52,10 @@ def check_thread_matches(truth_t, got):
         check_timing_counts(truth_t, tot)
     assert tot["page_faults"]["minor"] == truth_t["page_faults"]
     assert tot["unsafe"]["minor_fault"] == truth_t["page_faults"]
-    assert tot["unsafe"]["block"] == truth_t["blocks"]
+    # what the tool knows of a block (CI once: 1 in a clean rt-6.1 run, not
+    # explained): its verdict and causes, for the next time
+    assert tot["unsafe"]["block"] == truth_t["blocks"], json.dumps(
+        {"unsafe": tot["unsafe"], "status": got.get("status"), "causes": got.get("causes")})
     unsafe_truth = {k: v for k, v in truth_t["syscalls"].items() if k != "futex"}
     assert tot["unsafe_syscalls"] == unsafe_truth
     assert tot["unsafe"]["syscall"] == sum(unsafe_truth.values())

@@ -177,6 +177,18 @@ static void check_jitter(const struct check_in *in, const struct span_view *v,
 			   us(th->jitter_warn_ns));
 }
 
+/*
+ * exit_is_normal_end - an exit with nothing wrong in it: the supervised
+ * command ended, or the thread's whole process ended with status 0
+ * (exit_group(0): main returned, exit(0), a service stopped cleanly). A
+ * thread that ends alone while its process goes on is a death, whatever its
+ * status: the control loop it ran has stopped.
+ */
+static bool exit_is_normal_end(const struct check_in *in)
+{
+	return in->exit_expected || (in->process_ended && in->exit_code == 0);
+}
+
 /* check_exceptions - fatal signals and deaths; a restart says so */
 static void check_exceptions(const struct check_in *in, struct status *s)
 {
@@ -197,9 +209,11 @@ static void check_exceptions(const struct check_in *in, struct status *s)
 	else if (code)
 		status_add(s, LEVEL_ERROR, "exited with status %d%s", code,
 			   in->exit_mid_cycle ? " inside a cycle" : "");
-	else if (!in->exit_expected)
+	else if (!exit_is_normal_end(in))
 		status_add(s, LEVEL_ERROR, "thread exited%s",
 			   in->exit_mid_cycle ? " inside a cycle" : "");
+	else if (in->process_ended)
+		status_add(s, LEVEL_STALE, "exited: its process ended with status 0");
 	else
 		status_add(s, LEVEL_STALE, "exited");
 }

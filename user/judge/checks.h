@@ -47,6 +47,7 @@ struct check_in {
 	bool exit_expected;		/* a normal end (the supervised command ended) */
 	int exit_code;			/* task exit code: signal in bits 0-6, status in 8-15 */
 	bool exit_mid_cycle;
+	bool process_ended;		/* its process ended with it (exit_group, a fatal signal) */
 	__u64 compat_sys;		/* 32-bit syscalls seen: not classified */
 	__u32 restarted_from;		/* tid of the dead instance it replaces, 0 = none */
 	const char *unsafe_names;	/* unsafe syscalls of the window, e.g. "mmap 1, munmap 1" */

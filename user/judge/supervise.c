@@ -212,6 +212,7 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 		in.exit_expected = s->cmd_mode;
 		in.exit_code = tm->cur.exit_code;
 		in.exit_mid_cycle = tm->cur.exit_mid_cycle;
+		in.process_ended = tm->cur.exit_group;
 		in.compat_sys = tm->cur.compat_sys;
 		in.restarted_from = tm->restarted_from;
 		in.unsafe_names = names;

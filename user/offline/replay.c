@@ -78,6 +78,7 @@ static void on_thread(struct replay *r, const struct rec_thread *rt)
 	t->exited = rt->exited;
 	t->exit_code = rt->exit_code;
 	t->exit_mid_cycle = rt->exit_mid_cycle;
+	t->exit_group = rt->exit_group;
 	t->cs.mode = rt->mode;
 	t->cs.nominal = rt->nominal;
 	t->syscalls = rt->syscalls;

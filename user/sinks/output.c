@@ -254,6 +254,7 @@ static json_t *json_thread(const struct collector *c, const struct supervisor *s
 	if (tm->cur.exited) {
 		json_object_set_new(o, "exit_mid_cycle", json_boolean(tm->cur.exit_mid_cycle));
 		json_object_set_new(o, "exit_code", json_integer(tm->cur.exit_code));
+		json_object_set_new(o, "process_ended", json_boolean(tm->cur.exit_group));
 		/* the teardown inside the cut cycle, kept out of the totals */
 		if (tm->cur.exit_mid_cycle)
 			json_object_set_new(o, "exit_cycle_unsafe",

@@ -76,7 +76,7 @@ struct rec_thread {
 	__u64 majflt;
 	__u64 unsafe[RTSUP_U_NR];
 	__u32 nsys;		/* unsafe syscalls by number */
-	__u32 pad;
+	__u32 exit_group;	/* its process ended with it (0 in recordings before it) */
 	struct {
 		__u32 nr;
 		__u32 pad;

@@ -244,6 +244,7 @@ void rec_thread_from(struct rec_thread *r, const struct thread_model *tm)
 	r->exited = t->exited;
 	r->exit_code = t->exit_code;
 	r->exit_mid_cycle = t->exit_mid_cycle;
+	r->exit_group = t->exit_group;
 	r->mode = t->cs.mode;
 	r->resets = t->resets;
 	r->nominal = t->cs.nominal;

@@ -10,6 +10,9 @@
  * CLOCK_MONOTONIC ('stretched': a step back), its worst lateness on
  * CLOCK_MONOTONIC (which no step moves; a step back adds to it), and
  * its worst lateness on its own clock (the step back's sleep included).
+ * A step back between a wakeup and its clock read leaves that cycle
+ * judged on CLOCK_MONOTONIC ('stepped_after_wake'): it woke before the
+ * step, and its clock read says -2 s.
  *
  * usage: realtime_loop NAME PERIOD_US CYCLES OUT.json
  */
@@ -32,7 +35,7 @@ static long long now(clockid_t c)
 int main(int argc, char **argv)
 {
 	long long period, next, mnext, late, worst = 0, late_rt, worst_rt = 0, before;
-	long cycles, c, restarts = 0, stretched = 0;
+	long cycles, c, restarts = 0, stretched = 0, stepped_after_wake = 0;
 	struct timespec ts;
 	FILE *f;
 
@@ -50,6 +53,11 @@ int main(int argc, char **argv)
 		clock_nanosleep(CLOCK_REALTIME, TIMER_ABSTIME, &ts, NULL);
 		late = now(CLOCK_MONOTONIC) - mnext;
 		late_rt = now(CLOCK_REALTIME) - next;
+		if (late_rt < -period) {
+			/* stepped back after the wakeup: the sleep ended on the old time */
+			stepped_after_wake++;
+			late_rt = late;
+		}
 		if (now(CLOCK_MONOTONIC) - before > period + NS) {
 			/* stepped back: the sleep lasted the step more; on the clock, on time */
 			stretched++;
@@ -74,7 +82,7 @@ int main(int argc, char **argv)
 	if (!f)
 		return 1;
 	fprintf(f, "{\"cycles\": %ld, \"restarts\": %ld, \"stretched\": %ld, "
-		"\"worst_late_ns\": %lld, \"worst_late_rt_ns\": %lld}\n", cycles, restarts,
-		stretched, worst, worst_rt);
+		"\"stepped_after_wake\": %ld, \"worst_late_ns\": %lld, \"worst_late_rt_ns\": %lld}\n",
+		cycles, restarts, stretched, stepped_after_wake, worst, worst_rt);
 	return fclose(f) ? 1 : 0;
 }

@@ -954,6 +954,35 @@ static void test_checks_exc_expected_exit_stale(void **state)
 	expect_one(LEVEL_STALE, "exited");
 }
 
+/* the whole process ended with status 0: a clean end, inside a cycle or not */
+static void test_checks_exc_process_ended_cleanly_stale(void **state)
+{
+	IN.alive = false;
+	IN.exit_code = 0;
+	IN.process_ended = true;
+	run();
+	expect_one(LEVEL_STALE, "exited: its process ended with status 0");
+	IN.exit_mid_cycle = true;
+	run();
+	expect_one(LEVEL_STALE, "exited: its process ended with status 0");
+}
+
+/* ... but not with another status, nor by a signal (its exit code is the signal) */
+static void test_checks_exc_process_ended_badly_error(void **state)
+{
+	char want[STATUS_MSG_LEN];
+
+	IN.alive = false;
+	IN.process_ended = true;
+	IN.exit_code = 3 << 8;
+	run();
+	expect_one(LEVEL_ERROR, "exited with status 3");
+	IN.exit_code = SIGKILL;
+	run();
+	snprintf(want, sizeof(want), "killed by signal 9 (%s)", strsignal(SIGKILL));
+	expect_one(LEVEL_ERROR, want);
+}
+
 static void test_checks_exc_alive_ignores_exit_code(void **state)
 {
 	IN.exit_code = SIGSEGV;		/* stale value of a live thread */
@@ -1261,6 +1290,8 @@ int main(void)
 		C(test_checks_exc_status),
 		C(test_checks_exc_unexpected_exit),
 		C(test_checks_exc_expected_exit_stale),
+		C(test_checks_exc_process_ended_cleanly_stale),
+		C(test_checks_exc_process_ended_badly_error),
 		C(test_checks_exc_alive_ignores_exit_code),
 		C(test_checks_exc_restarted),
 		C(test_checks_exc_restarted_with_warn),
