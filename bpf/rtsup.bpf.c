@@ -1403,7 +1403,7 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 		return 0;
 	if (pt && !preempt)
 		state = btf ? get_task_state_btf(prev) : get_task_state(prev);
-	voluntary = state != 0;
+	voluntary = cycle_switch_voluntary(state);
 	if (pt)
 		out = cycle_switch_out_path(&pt->cs, voluntary);
 	now = switch_timed(nt, hold, out) ? bpf_ktime_get_ns() : 0;

@@ -700,6 +700,24 @@ RTSUP_INLINE __u32 cycle_settle(struct rtsup_thread *t, struct cycle_switch_rec 
 	return cycle_switch_in(t, r->now, r->cpu, r->minflt, r->majflt);
 }
 
+/* a PREEMPT_RT sleeping spinlock's wait (include/linux/sched.h, since 5.15) */
+#define CYC_TASK_RTLOCK_WAIT	0x1000
+
+/*
+ * cycle_switch_voluntary - did a thread that left its CPU, not preempted,
+ * in scheduler state 'state', go to wait? Not in state 0 (a preemption the
+ * tracepoint does not flag: lazy preemption at the return to user), nor
+ * waiting for a kernel spinlock on PREEMPT_RT: an rtmutex with priority
+ * inheritance, its owner boosted to ours, which the kernel's rtapp monitor
+ * counts as an RT-friendly wait. A getrusage inside a cycle waited so for
+ * task_lock, taken by a /proc read of the thread (ours, each interval):
+ * counted as an RT-unsafe block, it was a false one.
+ */
+RTSUP_INLINE int cycle_switch_voluntary(__u32 state)
+{
+	return state != 0 && state != CYC_TASK_RTLOCK_WAIT;
+}
+
 /* The paths of cycle_switch_out. */
 enum cycle_out_path {
 	CYC_OUT_DELIM_SLEEP,	/* in the delimiter, it sleeps: that is its wait */

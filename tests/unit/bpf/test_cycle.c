@@ -356,6 +356,34 @@ static void test_cycle_block_in_cycle(void **state)
 	assert_int_equal(f->t.cycles, 2);
 }
 
+/* which switch-outs are a wait: sleeping states, not a PREEMPT_RT spinlock's */
+static void test_cycle_switch_voluntary_states(void **state)
+{
+	(void)state;
+	assert_false(cycle_switch_voluntary(0));		/* TASK_RUNNING: preempted */
+	assert_true(cycle_switch_voluntary(1));			/* TASK_INTERRUPTIBLE */
+	assert_true(cycle_switch_voluntary(2));			/* TASK_UNINTERRUPTIBLE */
+	assert_true(cycle_switch_voluntary(0x402));		/* TASK_IDLE */
+	assert_false(cycle_switch_voluntary(CYC_TASK_RTLOCK_WAIT));
+}
+
+/* a wait for a PREEMPT_RT spinlock inside a cycle: no block, no unsafe event */
+static void test_cycle_rtlock_wait_in_cycle(void **state)
+{
+	struct fx *f = *state;
+	__u64 s = rel(2) + LAT;
+
+	steady(f, rel(0), 1, 2);
+	assert_int_equal(sw_out(f, s + 50 * US, cycle_switch_voluntary(CYC_TASK_RTLOCK_WAIT)), 0);
+	cycle_wakeup(&f->t, s + 90 * US);
+	assert_int_equal(sw_in(f, s + 100 * US), 0);
+	assert_int_equal(enter(f, s + 200 * US, rel(3)), CYC_EV_CLOSED);
+	assert_int_equal(f->out.blocks, 0);
+	assert_int_equal(f->out.preempt, 1);
+	assert_int_equal(f->out.cpu, 150 * US);
+	assert_int_equal(f->t.unsafe[RTSUP_U_BLOCK], 0);
+}
+
 /* deadline miss with an overrun: exec 1.5 ms in a 1 ms period */
 static void test_cycle_miss_overrun(void **state)
 {
@@ -1524,6 +1552,8 @@ int main(void)
 		T(test_cycle_relative_sleep),
 		T(test_cycle_preempt_in_cycle),
 		T(test_cycle_block_in_cycle),
+		T(test_cycle_switch_voluntary_states),
+		T(test_cycle_rtlock_wait_in_cycle),
 		T(test_cycle_miss_overrun),
 		T(test_cycle_overrun_judged_by_its_own_release),
 		T(test_cycle_miss_without_overrun),
