@@ -719,12 +719,14 @@ def test_in_guest_clock_step_forward(tmp_path):
     # the tool stamps the switch-in, the loop reads its clock after it: its
     # lateness is the larger; 1 ms for a TCG guest's clock reads. Without
     # the early-release rule the step would show as a 5 s latency. Its
-    # lateness on its own clock, not on CLOCK_MONOTONIC: the loop pairs its
-    # deadlines on the two clocks by two reads, at its start and its restart,
-    # and a preemption between them (ms in a TCG guest) hides that much of
-    # every later cycle's monotonic lateness; a step forward adds nothing to
-    # a lateness on the clock once the schedule restarts. (A CI guest: the
-    # tool 11.7 ms, the loop 9.4 ms on CLOCK_MONOTONIC.)
+    # lateness on its own clock: a step forward adds nothing to it once the
+    # schedule restarts. (A CI guest: the tool 11.7 ms, the loop 9.4 ms on
+    # CLOCK_MONOTONIC, when the loop paired its deadlines on the two clocks
+    # by two plain reads, ms apart when preempted; realtime_loop.c's pair()
+    # now brackets them.) A step between a wakeup and the loop's clock read
+    # (stepped_after_wake) leaves that cycle on CLOCK_MONOTONIC: before, the
+    # loop took it for the restart and left its lateness out (CI: the tool
+    # 11.5 ms, the loop 6.3 ms).
     assert tot["latency_ns"]["max"] <= truth["worst_late_rt_ns"] + 1000000, (tot, truth)
     assert tot["latency_ns"]["max"] < 1e9
     # said once, with its size: 5 s less the moments between our clock read and the set

@@ -10,9 +10,11 @@
  * CLOCK_MONOTONIC ('stretched': a step back), its worst lateness on
  * CLOCK_MONOTONIC (which no step moves; a step back adds to it), and
  * its worst lateness on its own clock (the step back's sleep included).
- * A step back between a wakeup and its clock read leaves that cycle
- * judged on CLOCK_MONOTONIC ('stepped_after_wake'): it woke before the
- * step, and its clock read says -2 s.
+ * A step between a wakeup and its clock read (either way) leaves that
+ * cycle judged on CLOCK_MONOTONIC ('stepped_after_wake'): it woke before
+ * the step, at its time, and its clock read says -2 s or +5 s. A step
+ * forward that releases the sleep in progress wakes it before its time on
+ * CLOCK_MONOTONIC: that cycle has no lateness on its clock.
  *
  * usage: realtime_loop NAME PERIOD_US CYCLES OUT.json
  */
@@ -32,9 +34,30 @@ static long long now(clockid_t c)
 	return ts.tv_sec * NS + ts.tv_nsec;
 }
 
+/*
+ * pair - CLOCK_REALTIME and CLOCK_MONOTONIC at one instant: the realtime
+ * read between two monotonic ones no more than 20 us apart. Two reads one
+ * after the other were ms apart when a TCG guest preempted the loop
+ * between them, and every later lateness on one clock was off by that.
+ */
+static void pair(long long *rt, long long *mono)
+{
+	long long m0, m1;
+	int i;
+
+	for (i = 0; i < 1000; i++) {
+		m0 = now(CLOCK_MONOTONIC);
+		*rt = now(CLOCK_REALTIME);
+		m1 = now(CLOCK_MONOTONIC);
+		if (m1 - m0 < 20000)
+			break;
+	}
+	*mono = m0 + (m1 - m0) / 2;
+}
+
 int main(int argc, char **argv)
 {
-	long long period, next, mnext, late, worst = 0, late_rt, worst_rt = 0, before;
+	long long period, next, mnext, late, worst = 0, late_rt, worst_rt = 0, before, rt, mono;
 	long cycles, c, restarts = 0, stretched = 0, stepped_after_wake = 0;
 	struct timespec ts;
 	FILE *f;
@@ -44,30 +67,37 @@ int main(int argc, char **argv)
 	period = atol(argv[2]) * 1000LL;
 	cycles = atol(argv[3]);
 	prctl(PR_SET_NAME, argv[1], 0, 0, 0);
-	next = now(CLOCK_REALTIME) + period;
-	mnext = now(CLOCK_MONOTONIC) + period;
+	pair(&rt, &mono);
+	next = rt + period;
+	mnext = mono + period;
 	for (c = 0; c < cycles; c++) {
 		ts.tv_sec = next / NS;
 		ts.tv_nsec = next % NS;
 		before = now(CLOCK_MONOTONIC);
 		clock_nanosleep(CLOCK_REALTIME, TIMER_ABSTIME, &ts, NULL);
-		late = now(CLOCK_MONOTONIC) - mnext;
-		late_rt = now(CLOCK_REALTIME) - next;
-		if (late_rt < -period) {
-			/* stepped back after the wakeup: the sleep ended on the old time */
-			stepped_after_wake++;
-			late_rt = late;
-		}
-		if (now(CLOCK_MONOTONIC) - before > period + NS) {
+		pair(&rt, &mono);
+		late = mono - mnext;
+		late_rt = rt - next;
+		if (mono - before > period + NS) {
 			/* stepped back: the sleep lasted the step more; on the clock, on time */
 			stretched++;
-			mnext = now(CLOCK_MONOTONIC) - late_rt;
+			mnext = mono - late_rt;
 			late = late_rt;
+		} else if ((late_rt < -period || late_rt > 2 * NS) && late >= 0) {
+			/*
+			 * stepped after the wakeup, before the read: the sleep
+			 * ended at its time, its lateness is the monotonic one
+			 */
+			stepped_after_wake++;
+			late_rt = late;
+			if (late > worst)
+				worst = late;
+			if (late > worst_rt)
+				worst_rt = late;
 		}
-		if (late_rt > 2 * NS) {
+		if (rt - next > 2 * NS) {
 			/* stepped forward: start again from now */
-			next = now(CLOCK_REALTIME);
-			mnext = now(CLOCK_MONOTONIC);
+			pair(&next, &mnext);
 			restarts++;
 		} else {
 			if (late > worst)
