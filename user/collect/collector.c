@@ -573,10 +573,6 @@ static int read_one_by_one(struct collector *c, int fd)
 	return errno == ENOENT ? 0 : -errno;
 }
 
-#ifndef ENOTSUPP
-#define ENOTSUPP 524	/* the kernel's own "operation not supported" */
-#endif
-
 /* grow_batch - twice the entries per read */
 static int grow_batch(struct collector *c)
 {
@@ -617,7 +613,7 @@ static int read_threads(struct collector *c)
 			continue;
 		}
 		if (err && errno != ENOENT) {
-			if (first && (errno == EINVAL || errno == ENOTSUP || errno == ENOTSUPP)) {
+			if (first && map_batch_unsupported(errno)) {
 				c->no_batch = true;
 				return read_one_by_one(c, fd);
 			}

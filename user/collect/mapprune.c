@@ -48,7 +48,7 @@ static int entries_room(struct entries *e, size_t want)
 	return 0;
 }
 
-static bool no_batch(int err)
+bool map_batch_unsupported(int err)
 {
 	return err == EINVAL || err == ENOTSUP || err == ENOTSUPP;
 }
@@ -72,7 +72,7 @@ static int read_batched(int fd, struct entries *e)
 			continue;
 		}
 		if (err && errno != ENOENT)
-			return first && no_batch(errno) ? -ENOTSUP : -errno;
+			return first && map_batch_unsupported(errno) ? -ENOTSUP : -errno;
 		e->n += n;
 		in = out;
 		first = false;
@@ -112,7 +112,7 @@ static void delete_keys(int fd, const char *k, __u32 n, size_t ksz)
 
 	if (!n || !bpf_map_delete_batch(fd, k, &done, NULL))
 		return;
-	if (!no_batch(errno))
+	if (!map_batch_unsupported(errno))
 		i = done;	/* it stopped at one already gone: the rest one by one */
 	for (; i < n; i++)
 		bpf_map_delete_elem(fd, k + i * ksz);

@@ -6,6 +6,9 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+/* map_batch_unsupported - errno of a first batch call: the kernel has none (< 5.6) */
+bool map_batch_unsupported(int err);
+
 /* is the entry (key, value) gone? */
 typedef bool (*prune_gone)(const void *key, const void *value, void *ctx);
 
