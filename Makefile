@@ -215,6 +215,7 @@ UNIT_DEPS_test_histdraw := user/sinks/histdraw.c
 UNIT_DEPS_test_rowcut := user/sinks/rowcut.c
 UNIT_DEPS_test_progress := user/sinks/progress.c
 UNIT_DEPS_test_syscalls := user/model/syscalls.c
+UNIT_DEPS_test_syshooks := user/model/syshooks.c user/model/syscalls.c
 UNIT_DEPS_test_config := $(CONFIG_SRCS) user/model/syscalls.c user/config/actionspec.c user/judge/status.c
 UNIT_LIBS_test_config := -lyaml
 UNIT_DEPS_test_record := user/sinks/record.c user/sinks/jsonstr.c user/sinks/errline.c

@@ -47,11 +47,24 @@ static __always_inline void zero_mem(void *p, __u32 n);
 #define SYSARG(btf, regs, n) ((btf) ? PT_REGS_PARM##n##_SYSCALL(regs) : \
 			      PT_REGS_PARM##n##_CORE_SYSCALL(regs))
 
+/*
+ * SYSCALL_NR - the number of the syscall a task is in, from its saved
+ * registers: what raw_syscalls:sys_enter gets as 'id' (-1 outside a syscall)
+ */
+#if defined(__TARGET_ARCH_x86)
+#define SYSCALL_NR(regs) ((long)BPF_CORE_READ(regs, orig_ax))
+#elif defined(__TARGET_ARCH_arm64)
+#define SYSCALL_NR(regs) ((long)BPF_CORE_READ(regs, syscallno))
+#else
+#define SYSCALL_NR(regs) (-1L)
+#endif
+
 #define TIMER_ABSTIME	1
 #define S_IFMT		00170000
 #define S_IFREG		0100000
 #define S_IFCHR		0020000
 #define EEXIST		17
+#define PF_KTHREAD	0x00200000
 #define SIGNAL_GROUP_EXIT	0x00000004	/* include/linux/sched/signal.h, since 2.6 */
 
 /* Settings, written by userspace between open and load. */
@@ -68,6 +81,8 @@ const volatile __u32 cfg_follow;	/* -- CMD: child processes are targets too */
 const volatile __u32 cfg_can_nif;	/* --can IFACE: how many; 0 = every CAN interface */
 const volatile __u32 cfg_netns;		/* inode of rtsup-trace's network namespace */
 const volatile __u32 cfg_canopen;	/* match CANopen SDO requests and responses */
+/* per-syscall hooks: no hook saw every syscall, a block's is read at its switch-out */
+const volatile __u32 cfg_sys_per;
 const volatile __s64 cfg_steal_off;	/* KVM's steal_time from a run queue (cpu_steal) */
 const volatile char cfg_comms[RTSUP_MAX_COMMS][RTSUP_COMM_LEN];
 const volatile __u32 cfg_stacks;	/* --stacks: enum rtsup_stacks */
@@ -86,6 +101,26 @@ __u64 tidmask[RTSUP_TIDMASK_WORDS];	/* may have an entry in threads */
 __u64 wakemask[RTSUP_TIDMASK_WORDS];	/* its next wakeup time may be read */
 /* The --can interfaces, followed by userspace when one comes back (can.h) */
 struct rtsup_can_watch can_watch[RTSUP_CAN_WATCH];
+
+/*
+ * The full syscall programs the per-syscall stubs tail-call, one each:
+ * the stubs are a few instructions to verify, the bodies are verified once.
+ * The kernel keeps a tail call between programs of one attach type (fentry,
+ * fexit) and one function prototype: a syscall with arguments has one
+ * (__x64_sys_read(const struct pt_regs *regs)), one without has another
+ * (its parameter is named __unused), so each has its arrays and bodies.
+ */
+#define SYS_BODY_ARRAY(name)							\
+struct {									\
+	__uint(type, BPF_MAP_TYPE_PROG_ARRAY);					\
+	__uint(max_entries, 1);							\
+	__type(key, __u32);							\
+	__type(value, __u32);							\
+} name SEC(".maps");
+SYS_BODY_ARRAY(sys_in_body)
+SYS_BODY_ARRAY(sys_out_body)
+SYS_BODY_ARRAY(sys_in_body_z)
+SYS_BODY_ARRAY(sys_out_body_z)
 
 struct {
 	__uint(type, BPF_MAP_TYPE_HASH);
@@ -1296,6 +1331,35 @@ static __always_inline __u32 switch_out_run(struct rtsup_thread *t,
 	return *c ? switch_out_cycle(t, in, *c) : 0;	/* an array's one entry: never NULL */
 }
 
+/*
+ * block_syscall - per-syscall hooks: the syscall a block waits in, read
+ * from the thread's saved registers as it leaves the CPU (prev is still
+ * current at sched_switch), since no hook saw an unhooked syscall begin.
+ * Outside a syscall (a page fault) it is none; a kernel thread has none,
+ * and a 32-bit syscall is left unnamed, as sys_enter leaves it.
+ */
+static __always_inline void block_syscall(struct rtsup_why *w)
+{
+	struct task_struct *task = bpf_get_current_task_btf();
+	struct pt_regs *regs;
+	__u32 nr, *cls;
+	long id;
+
+	w->sys_nr = 0;
+	w->sys_op = 0;
+	/* a 32-bit syscall's number is another table's (compat_syscall) */
+	if ((task->flags & PF_KTHREAD) || compat_syscall(task, 1))
+		return;
+	regs = (struct pt_regs *)bpf_task_pt_regs(task);
+	id = SYSCALL_NR(regs);
+	if (id < 0 || id >= RTSUP_MAX_SYSCALLS)
+		return;
+	nr = id;
+	cls = bpf_map_lookup_elem(&sysclass, &nr);
+	why_syscall(w, nr, cls && (*cls & RTSUP_SC_OPKEY) ?
+			   (PT_REGS_PARM2_CORE_SYSCALL(regs) & 0x7f) + 1 : 0);
+}
+
 /* the inputs of switch_out_state and switch_out_events: prev as on_switch read it */
 struct switch_out_side_in {
 	__u64 now, minflt, majflt;
@@ -1325,6 +1389,8 @@ __noinline int switch_out_state(struct rtsup_thread *pt, const struct switch_out
 		.minflt = in->minflt, .majflt = in->majflt,
 	};
 
+	if (cfg_sys_per && in->voluntary)
+		block_syscall(&pt->why);
 	why_switch_out(&pt->why, &pt->cs, in->now, in->voluntary, in->state);
 	/* a switch-out that reads no clock (asleep in its delimiter) counts no CPU time */
 	if (in->now)
@@ -1801,7 +1867,6 @@ static __always_inline void can_sdo_response(struct rtsup_can_id *v,
 	}
 }
 
-#define PF_KTHREAD	0x00200000
 
 /* on_softirq - a softirq starts (in) or ends on this CPU, in the current task */
 static __always_inline int on_softirq(int in)
@@ -2064,6 +2129,45 @@ SEC("fexit/__sched_setscheduler")
 int BPF_PROG(rt_setsched, struct task_struct *p, const struct sched_attr *attr, bool user,
 	     bool pi, int ret)
 { return BODY(on_setsched(p)); }
+
+/*
+ * --syscall-hooks per-syscall: a stub on each hooked syscall's function
+ * (the loader names it, __x64_sys_NAME) lets every thread that is no target
+ * go after one bit test, and hands a target to the full program by a tail
+ * call: the whole of sys_enter/sys_exit, on the same regs, verified once.
+ */
+static __always_inline int sys_stub(void *ctx, void *body)
+{
+	if (maybe_target((__u32)bpf_get_current_pid_tgid()))
+		bpf_tail_call(ctx, body, 0);
+	return 0;
+}
+
+#define SYS_BODIES(g)								\
+SEC("fentry")									\
+int BPF_PROG(sys_in_prog##g, struct pt_regs *regs)				\
+{ return BODY(on_sys_enter(regs, SYSCALL_NR(regs), 1)); }			\
+SEC("fexit")									\
+int BPF_PROG(sys_out_prog##g, struct pt_regs *regs, long ret)			\
+{ return BODY(on_sys_exit(ret, 1)); }
+SYS_BODIES()
+SYS_BODIES(_z)
+
+#define SYS_IN(n, g)								\
+SEC("fentry")									\
+int sys_in##g##_##n(unsigned long long *ctx) { return BODY(sys_stub(ctx, &sys_in_body##g)); }
+#define SYS_OUT(n, g)								\
+SEC("fexit")									\
+int sys_out##g##_##n(unsigned long long *ctx) { return BODY(sys_stub(ctx, &sys_out_body##g)); }
+#define SYS_ROW(S, d, g) S(d##0, g) S(d##1, g) S(d##2, g) S(d##3, g) S(d##4, g)	\
+			 S(d##5, g) S(d##6, g) S(d##7, g) S(d##8, g) S(d##9, g)
+
+/* RTSUP_SYS_IN_SLOTS and RTSUP_SYS_OUT_SLOTS of them, and the _z ones (rtsup.h) */
+SYS_ROW(SYS_IN, 0, ) SYS_ROW(SYS_IN, 1, ) SYS_ROW(SYS_IN, 2, ) SYS_ROW(SYS_IN, 3, )
+SYS_ROW(SYS_IN, 4, ) SYS_ROW(SYS_IN, 5, ) SYS_ROW(SYS_IN, 6, ) SYS_ROW(SYS_IN, 7, )
+SYS_ROW(SYS_OUT, 0, ) SYS_ROW(SYS_OUT, 1, ) SYS_ROW(SYS_OUT, 2, )
+SYS_ROW(SYS_IN, 0, _z) SYS_ROW(SYS_IN, 1, _z)
+SYS_OUT(00, _z) SYS_OUT(01, _z) SYS_OUT(02, _z) SYS_OUT(03, _z)
 
 /* the collector's one read of the targets' attributes a sample (taskattrs.h) */
 SEC("iter/task")

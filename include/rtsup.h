@@ -15,6 +15,15 @@
 #define RTSUP_COMM_LEN		16
 #define RTSUP_MAX_COMMS		8	/* --comm names matched in the kernel */
 #define RTSUP_MAX_SYSCALLS	1024	/* size of the syscall class table */
+/*
+ * --syscall-hooks per-syscall: fentry stubs, one per hooked syscall, and
+ * fexit stubs, one per syscall that may end a cycle (docs/design.md,
+ * "Syscall hooks"). The stubs are compiled in: 10 to a row (rtsup.bpf.c).
+ */
+#define RTSUP_SYS_IN_SLOTS	80	/* syscalls with arguments: sys_in_NN */
+#define RTSUP_SYS_OUT_SLOTS	30	/* sys_out_NN */
+#define RTSUP_SYS_IN_SLOTS_Z	20	/* syscalls without (fork, restart_syscall): sys_in_z_NN */
+#define RTSUP_SYS_OUT_SLOTS_Z	4	/* sys_out_z_NN */
 #define RTSUP_DEFAULT_THREADS	4096	/* default capacity of the thread map */
 #define RTSUP_UNTRACKED_MAX	16384	/* untracked threads counted at once */
 /*

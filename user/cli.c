@@ -79,6 +79,7 @@ enum {
 	OPT_ALL,
 	OPT_TOP,
 	OPT_JSON_THREADS,
+	OPT_SYSCALL_HOOKS,
 };
 
 static const struct argp_option opts[] = {
@@ -102,6 +103,9 @@ static const struct argp_option opts[] = {
 	{ "period", OPT_PERIOD, "TIME", 0, "Nominal period for overruns when the sleep does not tell it (e.g. 1ms)", 0 },
 	{ "max-threads", OPT_MAX_THREADS, "N", 0, "Capacity of the thread map (default 4096)", 0 },
 	{ "raw-tp", OPT_RAW_TP, NULL, 0, "Use raw tracepoints even where tp_btf works", 0 },
+	{ "syscall-hooks", OPT_SYSCALL_HOOKS, "HOW", 0,
+	  "raw (default: raw_syscalls, every syscall of every thread), per-syscall (only "
+	  "the syscalls rtsup classifies; fentry) or auto (per-syscall where it loads)", 0 },
 	{ "color", OPT_COLOR, "WHEN", 0, "auto (default), always or never", 0 },
 	{ "config", OPT_CONFIG, "FILE", 0, "YAML rules and thresholds (SIGHUP reloads it)", 0 },
 	{ "check-config", OPT_CHECK_CONFIG, "FILE", 0, "Validate FILE, print the effective rules, exit", 0 },
@@ -315,6 +319,16 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 			o->json_active = true;
 		else
 			return bad(st, "--json-threads", arg, "want all or active");
+		break;
+	case OPT_SYSCALL_HOOKS:
+		if (!strcmp(arg, "auto"))
+			o->sys_hooks = SYS_HOOKS_AUTO;
+		else if (!strcmp(arg, "per-syscall"))
+			o->sys_hooks = SYS_HOOKS_PER;
+		else if (!strcmp(arg, "raw"))
+			o->sys_hooks = SYS_HOOKS_RAW;
+		else
+			return bad(st, "--syscall-hooks", arg, "want auto, per-syscall or raw");
 		break;
 	case OPT_COLOR:
 		if (!strcmp(arg, "auto"))
@@ -549,6 +563,7 @@ int options_parse_flags(int argc, char **argv, struct options *o, unsigned int f
 	o->ewma_w = 102;
 	o->max_threads = RTSUP_DEFAULT_THREADS;
 	o->top = ROWCUT_TOP_DEFAULT;
+	o->sys_hooks = SYS_HOOKS_DEFAULT;
 	o->color = -1;
 	o->delims[0] = "clock_nanosleep";
 	o->delims[1] = "nanosleep";

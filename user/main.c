@@ -300,11 +300,27 @@ static void stacks_plan(struct options *o, const struct config *cfg)
 	o->stack_size_max = p.size_max;
 }
 
-/* do_reload - SIGHUP: a good file replaces the rules, a bad one is refused */
-static void do_reload(const struct options *o, struct supervisor *s)
+/* print_sys_hooks - -v: the syscalls the per-syscall hooks watch */
+static void print_sys_hooks(const struct sys_hookset *h)
 {
+	int i;
+
+	fprintf(stderr, "rtsup-trace: per-syscall hooks on %d syscalls:", h->nin);
+	for (i = 0; i < h->nin; i++)
+		fprintf(stderr, " %s", syscall_name(h->in[i]));
+	fprintf(stderr, "; at their exit too:");
+	for (i = 0; i < h->nout; i++)
+		fprintf(stderr, " %s", syscall_name(h->out[i]));
+	fputc('\n', stderr);
+}
+
+/* do_reload - SIGHUP: a good file replaces the rules, a bad one is refused */
+static void do_reload(const struct options *o, struct supervisor *s, const struct loader *l)
+{
+	struct sys_rule_names names;
 	struct stack_plan sp;
 	struct config cfg;
+	int nr;
 
 	if (!o->config_path) {
 		fprintf(stderr, "rtsup-trace: SIGHUP: no --config file to reload\n");
@@ -321,6 +337,12 @@ static void do_reload(const struct options *o, struct supervisor *s)
 	    sp.size != o->stack_size)
 		fprintf(stderr, "rtsup-trace: SIGHUP: %s: its stacks settings take effect at "
 			"the next start\n", o->config_path);
+	/* the per-syscall hooks were attached at load: a syscall they miss is not seen */
+	config_sys_names(&cfg, &names);
+	if (l->sys_per && (nr = syshooks_missing(&l->hooks, &names)) >= 0)
+		fprintf(stderr, "rtsup-trace: SIGHUP: %s: syscall %s is not hooked (per-syscall "
+			"hooks are fixed at start): it takes effect at the next start\n",
+			o->config_path, syscall_name(nr));
 	supervise_reload(s, &cfg);
 	fprintf(stderr, "rtsup-trace: SIGHUP: reloaded %s\n", o->config_path);
 }
@@ -355,6 +377,7 @@ static int run_live(struct options *o, struct supervisor *s)
 	/* known from the start: a thread's period may settle before its rule is applied */
 	o->warmup_ns = s->cfg.defaults.warmup_ns;
 	stacks_plan(o, &s->cfg);
+	config_sys_names(&s->cfg, &o->sys_rules);
 	if (o->cmd) {
 		child = spawn_cmd(o->cmd, &go_fd);
 		if (child < 0) {
@@ -369,6 +392,7 @@ static int run_live(struct options *o, struct supervisor *s)
 		goto out_child;
 	if (collector_init(&c, l.skel, o))
 		goto out;
+	c.sys_hooks = l.sys_per ? "per-syscall" : "raw_syscalls";
 	if (sinks_open(&sk, o, s, &c))
 		goto out;
 	if (o->can) {
@@ -377,8 +401,11 @@ static int run_live(struct options *o, struct supervisor *s)
 		s->can = &cm;
 	}
 	s->real_off = c.real_off;
-	fprintf(stderr, "rtsup-trace: tracing with %s programs; Ctrl-C ends with a summary\n",
-		l.tp_btf ? "tp_btf" : "raw tracepoint");
+	fprintf(stderr, "rtsup-trace: tracing with %s programs, syscalls %s; Ctrl-C ends with "
+		"a summary\n", l.tp_btf ? "tp_btf" : "raw tracepoint",
+		l.sys_per ? "by per-syscall hooks" : "on raw_syscalls");
+	if (l.sys_per && o->verbose)
+		print_sys_hooks(&l.hooks);
 	if (go_fd >= 0) {
 		if (write(go_fd, "g", 1) != 1)
 			goto out;
@@ -401,7 +428,7 @@ static int run_live(struct options *o, struct supervisor *s)
 		if (reload) {
 			reload = 0;
 			robot_reload(&rb, false);
-			do_reload(o, s);
+			do_reload(o, s, &l);
 			robot_reload(&rb, true);
 		}
 		if (child > 0 && waitpid(child, &status, WNOHANG) == child)

@@ -7,6 +7,7 @@
 #include <linux/types.h>
 #include "collect/targets.h"
 #include "model/syscalls.h"
+#include "model/syshooks.h"
 
 struct options {
 	struct targets targets;
@@ -67,6 +68,8 @@ struct options {
 	__u32 stack_size_max;	/* the largest DWARF size */
 	__u32 stack_budget;	/* --stack-budget: records per thread per interval */
 	__u32 event_buffer;	/* --event-buffer: bytes of the rare events' ring; 0 = the BPF default */
+	int sys_hooks;		/* --syscall-hooks: enum sys_hooks_mode */
+	struct sys_rule_names sys_rules;	/* the rules' syscalls: hooked too (main.c) */
 	bool floor;		/* --floor (hidden): empty programs on the same hooks, for make bench */
 };
 

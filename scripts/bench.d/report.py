@@ -24,6 +24,8 @@ T_PEER_FACTOR = 2.0
 T_NS = {"sched_switch": 60, "sched_wakeup": 30, "sys_enter": 10}
 T_CAN_PCT = 2.0
 T_USER_CPU_PCT = 0.1
+T_VS_OWN_FLOOR = 1.2	# issue 19: --rt and per-syscall hooks against their floors
+T_SYSCALL_PCT = 2.0	# issue 19: getppid with per-syscall hooks, against the baseline
 T_USER_RSS_MIB = 16
 # rtsup-trace's statistics window (user/main.c): 100 ms in every 30th 1 s interval
 STATS_DUTY = 0.1 / 30
@@ -61,6 +63,7 @@ class R:
         self.res = res
         self.wl = {w["name"]: w for w in res["workloads"]}
         self.var = {v["name"]: v for v in res["variants"]}
+        self.unavailable = res.get("unavailable", {})
         self.runs = {}
         for r in res["runs"]:
             if r["rc"] == 0 and r["cpu_s"]:
@@ -450,6 +453,24 @@ def render(r, res, made):
                                      r.var[f]["label"], sd[v] / sd[f] if sd[f] > 0 else 0, yes(ok)))
             a("| sched pipe: %s slows it ≤ 5 %% | %.1f %% (the floor alone: %.1f %%) | %s |"
               % (r.var[v]["label"], sd[v] * 100, sd[f] * 100, yes(sd[v] <= T_PIPE_ABS)))
+    # issue 19: --rt and the per-syscall hooks against their own floors
+    for v, f in (("rtsup_rt", "floor_rt"), ("rtsup_per", "floor_per")):
+        for w in ("sched_pipe", "sched_messaging"):
+            x, y = r.slowdown(v, w), r.slowdown(f, w)
+            if r.ran(v) and r.ran(f) and x is not None and y is not None:
+                a("| %s: %s slows it ≤ %.1f× the floor's slowdown | %.1f %% vs %.1f %% (%s): "
+                  "%.2f× | %s |" % (w, r.var[v]["label"], T_VS_OWN_FLOOR, x * 100, y * 100,
+                                    r.var[f]["label"], x / y if y > 0 else 0,
+                                    yes(x <= T_VS_OWN_FLOOR * y or x <= 0)))
+    for v in ("rtsup_per", "floor_per", "floor", "rtsup"):
+        x = r.slowdown(v, "syscall") if r.ran(v) else None
+        if x is not None:
+            a("| syscall basic (getppid, a syscall no hook is on): %s slows it ≤ %.0f %% | "
+              "%.1f %% | %s |" % (r.var[v]["label"], T_SYSCALL_PCT, x * 100,
+                                  yes(x * 100 <= T_SYSCALL_PCT)))
+    for v in ("rtsup_per", "floor_per"):
+        if v in r.unavailable:
+            a("| %s | does not run here: %s | not measured |" % (v, r.unavailable[v][:200]))
     st = r.slowdown("rtsup_stats", "sched_pipe") if r.ran("rtsup_stats") else None
     if sd.get("rtsup") is not None and st is not None:
         am = (1 - STATS_DUTY) * sd["rtsup"] + STATS_DUTY * st

@@ -73,7 +73,9 @@ struct worker {
 	pid_t tid;
 	char comm[16];
 	int policy, prio;
-	long cycles, misses, overruns, overruns_seen, page_faults, blocks, stalls;
+	long cycles, misses, overruns, overruns_seen, page_faults, stalls;
+	/* blocks: futex waits that slept, what a tracer can see; blocks_injected: asked for */
+	long blocks, blocks_injected;
 	/* --audit: cycles a tracer may judge otherwise (race_audit()), sleeps */
 	long misses_near, overruns_near, vol_switches;
 	/*
@@ -450,14 +452,20 @@ static void inject_block(struct worker *w, long us)
 	if (!__atomic_compare_exchange_n(&w->lock, &(int){ 0 }, 1, false,
 					 __ATOMIC_ACQUIRE, __ATOMIC_RELAXED)) {
 		while (__atomic_exchange_n(&w->lock, 2, __ATOMIC_ACQUIRE)) {
-			futex(&w->lock, FUTEX_WAIT_PRIVATE, 2, NULL);
+			/*
+			 * a wait slept unless the word changed first (EAGAIN): late by
+			 * the block's length (a preemption, an emulated CPU's stall),
+			 * the helper had let go and there is no block to see
+			 */
+			if (!futex(&w->lock, FUTEX_WAIT_PRIVATE, 2, NULL) || errno == EINTR)
+				w->blocks++;
 			w->sc[SC_FUTEX]++;
 		}
 	}
 	/* the helper never sleeps on the lock word: release without a wake */
 	__atomic_store_n(&w->lock, 0, __ATOMIC_RELEASE);
 	__atomic_store_n(&w->done, 1, __ATOMIC_RELEASE);
-	w->blocks++;
+	w->blocks_injected++;
 }
 
 /* inject_one - inject fault @f; returns the work length for this cycle */
@@ -974,7 +982,7 @@ static json_t *thread_json(const struct worker *w)
 			"kind", kind_names[w->log[i].kind],
 			"arg", (json_int_t)w->log[i].arg));
 	o = json_pack("{s:i, s:i, s:s, s:s, s:i, s:i, s:I, s:I, s:I, s:o,"
-		      " s:I, s:I, s:I, s:I, s:b, s:I, s:o, s:i}",
+		      " s:I, s:I, s:I, s:I, s:I, s:b, s:I, s:o, s:i}",
 		      "index", w->index, "tid", (int)w->tid, "comm", w->comm,
 		      "policy", policy_name(w->policy), "prio", w->prio,
 		      "cpu", w->cpu, "cycles", (json_int_t)w->cycles,
@@ -983,6 +991,7 @@ static json_t *thread_json(const struct worker *w)
 		      "overruns_seen", (json_int_t)w->overruns_seen,
 		      "page_faults", (json_int_t)w->page_faults,
 		      "blocks", (json_int_t)w->blocks,
+		      "blocks_injected", (json_int_t)w->blocks_injected,
 		      "stalls", (json_int_t)w->stalls, "exited", (int)w->exited,
 		      "exit_cycle", (json_int_t)w->exit_cycle, "faults", faults,
 		      "hog_tid", (int)w->hog_tid);

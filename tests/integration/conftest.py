@@ -167,7 +167,7 @@ class Trace:
         for line in f:
             buf.append(line)
 
-    def stop(self, sig=signal.SIGINT, timeout=30):
+    def stop(self, sig=signal.SIGINT, timeout=120 if EMULATED else 30):
         """End the run; return (interval objects, summary object, stderr)."""
         if self.proc.poll() is None:
             self.proc.send_signal(sig)

@@ -36,6 +36,8 @@ struct stack_maps;
 struct collector {
 	struct rtsup_bpf *skel;
 	const struct options *o;
+	/* what the syscalls are seen by: "per-syscall" or "raw_syscalls"; NULL in a replay */
+	const char *sys_hooks;
 	struct model model;
 	struct ring_buffer *rb;
 	__u32 bank;			/* interval bank of the last sample */

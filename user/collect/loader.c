@@ -139,17 +139,23 @@ static long long steal_offset(const struct btf *kbtf)
  * only when rt_hook, the task iterator only when attrs_iter
  */
 static void select_programs(struct bpf_object *obj, bool btf, bool can, bool faults,
-			    bool rt_hook, bool attrs_iter)
+			    bool rt_hook, bool attrs_iter, bool sys_per)
 {
 	struct bpf_program *p;
 
 	bpf_object__for_each_program(p, obj) {
-		const char *sec = bpf_program__section_name(p);
+		const char *sec = bpf_program__section_name(p), *name = bpf_program__name(p);
 		bool is_btf = !strncmp(sec, "tp_btf/", 7);
-		bool is_can = !strncmp(bpf_program__name(p), "can_", 4);
-		bool is_fault = !strncmp(bpf_program__name(p), "page_fault_", 11);
+		bool is_can = !strncmp(name, "can_", 4);
+		bool is_fault = !strncmp(name, "page_fault_", 11);
+		bool is_raw_sys = !strncmp(name, "sys_enter_", 10) || !strncmp(name, "sys_exit_", 9);
 
-		if (!strncmp(bpf_program__name(p), "rt_", 3))
+		/* the per-syscall stubs and bodies (sys_in_*, sys_out_*): set_sys_hooks */
+		if (!strncmp(name, "sys_in_", 7) || !strncmp(name, "sys_out_", 8))
+			bpf_program__set_autoload(p, sys_per);
+		else if (is_raw_sys && sys_per)
+			bpf_program__set_autoload(p, false);
+		else if (!strncmp(name, "rt_", 3))
 			bpf_program__set_autoload(p, rt_hook);
 		else if (!strncmp(sec, "iter/", 5))
 			bpf_program__set_autoload(p, attrs_iter);
@@ -159,22 +165,219 @@ static void select_programs(struct bpf_object *obj, bool btf, bool can, bool fau
 	}
 }
 
-/* fill_sysclass - the syscall class table, from data in syscalls.c */
-static int fill_sysclass(struct rtsup_bpf *s, const struct options *o)
-{
-	static __u32 table[RTSUP_MAX_SYSCALLS];
-	char err[128];
-	int fd = bpf_map__fd(s->maps.sysclass);
-	__u32 i;
+/* the syscall class table, from data in syscalls.c: built before the load, written after */
+static __u32 sys_table[RTSUP_MAX_SYSCALLS];
 
-	if (sysclass_build(table, RTSUP_MAX_SYSCALLS, o->delims, o->ndelims, err,
+/* build_sysclass - the class table for the options; -1 with one line printed */
+static int build_sysclass(const struct options *o)
+{
+	char err[128];
+
+	if (sysclass_build(sys_table, RTSUP_MAX_SYSCALLS, o->delims, o->ndelims, err,
 			   sizeof(err))) {
 		fprintf(stderr, "rtsup-trace: --cycle-syscall: %s\n", err);
 		return -1;
 	}
+	return 0;
+}
+
+/* fill_sysclass - write the class table into the kernel's map */
+static int fill_sysclass(struct rtsup_bpf *s)
+{
+	const __u32 *table = sys_table;
+	int fd = bpf_map__fd(s->maps.sysclass);
+	__u32 i;
+
 	for (i = 0; i < RTSUP_MAX_SYSCALLS; i++)
 		if (table[i] && bpf_map_update_elem(fd, &i, &table[i], BPF_ANY))
 			return -errno;
+	return 0;
+}
+
+/* the kernel's function behind syscall NAME: what the stubs attach to */
+#if defined(__x86_64__)
+#define SYS_FN_PREFIX "__x64_sys_"
+#elif defined(__aarch64__)
+#define SYS_FN_PREFIX "__arm64_sys_"
+#else
+#define SYS_FN_PREFIX ""	/* no per-syscall hooks: plan_sys_hooks finds none */
+#endif
+
+/* sys_fn - the function of syscall nr into buf, "" when unknown */
+static const char *sys_fn(int nr, char *buf, size_t len)
+{
+	const char *name = syscall_name(nr);
+
+	if (*SYS_FN_PREFIX && name)
+		snprintf(buf, len, SYS_FN_PREFIX "%s", name);
+	else
+		*buf = 0;
+	return buf;
+}
+
+/* the stubs of each prototype group (rtsup.bpf.c, SYS_ROW) */
+static const struct sys_group {
+	const char *in_fmt, *out_fmt, *in_body, *out_body;
+	int in_slots, out_slots;
+} sys_groups[2] = {
+	{ "sys_in_%d%d", "sys_out_%d%d", "sys_in_prog", "sys_out_prog",
+	  RTSUP_SYS_IN_SLOTS, RTSUP_SYS_OUT_SLOTS },
+	{ "sys_in_z_%d%d", "sys_out_z_%d%d", "sys_in_prog_z", "sys_out_prog_z",
+	  RTSUP_SYS_IN_SLOTS_Z, RTSUP_SYS_OUT_SLOTS_Z },
+};
+
+/* fn_proto - the BTF prototype of the function behind syscall nr, 0 when none */
+static __u32 fn_proto(const struct btf *kbtf, int nr)
+{
+	char fn[96];
+	int id;
+
+	if (!*sys_fn(nr, fn, sizeof(fn)))
+		return 0;
+	id = btf__find_by_name_kind(kbtf, fn, BTF_KIND_FUNC);
+	return id > 0 ? btf__type_by_id(kbtf, id)->type : 0;
+}
+
+/*
+ * split_by_proto - the hooked syscalls by their function's prototype: the
+ * one of read's function (arguments), and one other (none); a syscall the
+ * kernel has no function for, or of a third prototype, is not hooked
+ * (dropped from h). False when a group has more than its stubs.
+ */
+static bool split_by_proto(const struct btf *kbtf, struct sys_hookset *h,
+			   struct sys_hookset g[2], char *err, size_t errlen)
+{
+	__u32 proto[2] = { fn_proto(kbtf, syscall_nr("read")), 0 }, p;
+	int i, k, pass;
+
+	memset(g, 0, 2 * sizeof(*g));
+	for (pass = 0; pass < 2; pass++) {
+		const __u16 *v = pass ? h->out : h->in;
+		__u16 *kept = pass ? h->out : h->in;
+		int n = pass ? h->nout : h->nin, nk = 0;
+
+		for (i = 0; i < n; i++) {
+			p = fn_proto(kbtf, v[i]);
+			if (p && !proto[1] && p != proto[0])
+				proto[1] = p;
+			k = p && p == proto[0] ? 0 : p && p == proto[1] ? 1 : -1;
+			if (k < 0)
+				continue;
+			if ((pass ? g[k].nout : g[k].nin) ==
+			    (pass ? sys_groups[k].out_slots : sys_groups[k].in_slots)) {
+				snprintf(err, errlen, "more syscalls %s than their %d stubs",
+					 k ? "without arguments" : "with arguments",
+					 pass ? sys_groups[k].out_slots : sys_groups[k].in_slots);
+				return false;
+			}
+			if (pass)
+				g[k].out[g[k].nout++] = v[i];
+			else
+				g[k].in[g[k].nin++] = v[i];
+			kept[nk++] = v[i];
+		}
+		if (pass)
+			h->nout = nk;
+		else
+			h->nin = nk;
+	}
+	return proto[0] != 0;
+}
+
+/*
+ * plan_sys_hooks - the syscalls the stubs go on (syshooks.h), by prototype;
+ * false when they do not fit, with one line printed when per-syscall was
+ * asked for
+ */
+static bool plan_sys_hooks(struct loader *l, const struct options *o, const struct btf *kbtf)
+{
+	struct sys_hookset *h = &l->hooks;
+	char err[128] = "no syscall function in the kernel's BTF";
+
+	if (syshooks_plan(h, sys_table, RTSUP_MAX_SYSCALLS, &o->sys_rules, err, sizeof(err)) ||
+	    !split_by_proto(kbtf, h, l->by_proto, err, sizeof(err))) {
+		if (o->sys_hooks == SYS_HOOKS_PER)
+			fprintf(stderr, "rtsup-trace: --syscall-hooks per-syscall: %s\n", err);
+		return false;
+	}
+	return true;
+}
+
+/* set_slots - the stubs named fmt: the first n on v's functions, the rest not loaded */
+static void set_slots(struct bpf_object *obj, const char *fmt, int slots, const __u16 *v, int n)
+{
+	struct bpf_program *p;
+	char name[32], fn[96];
+	int i;
+
+	for (i = 0; i < slots; i++) {
+		snprintf(name, sizeof(name), fmt, i / 10, i % 10);
+		p = bpf_object__find_program_by_name(obj, name);
+		if (!p)
+			continue;
+		if (i < n)
+			bpf_program__set_attach_target(p, 0, sys_fn(v[i], fn, sizeof(fn)));
+		else
+			bpf_program__set_autoload(p, false);
+	}
+}
+
+/* set_body - a body for the stubs of its group: loaded on their first function, never attached */
+static void set_body(struct bpf_object *obj, const char *name, const __u16 *v, int n, bool load)
+{
+	struct bpf_program *p = bpf_object__find_program_by_name(obj, name);
+	char fn[96];
+
+	if (!p)
+		return;
+	bpf_program__set_autoattach(p, false);
+	if (n && load)
+		bpf_program__set_attach_target(p, 0, sys_fn(v[0], fn, sizeof(fn)));
+	else
+		bpf_program__set_autoload(p, false);
+}
+
+/*
+ * set_sys_hooks - each stub its syscall's function, the rest not loaded;
+ * the bodies too, unless 'bodies' is false (the floor's stubs are empty)
+ */
+static void set_sys_hooks(struct bpf_object *obj, const struct sys_hookset g[2], bool bodies)
+{
+	int k;
+
+	for (k = 0; k < 2; k++) {
+		set_slots(obj, sys_groups[k].in_fmt, sys_groups[k].in_slots, g[k].in, g[k].nin);
+		set_slots(obj, sys_groups[k].out_fmt, sys_groups[k].out_slots, g[k].out,
+			  g[k].nout);
+		set_body(obj, sys_groups[k].in_body, g[k].in, g[k].nin, bodies);
+		set_body(obj, sys_groups[k].out_body, g[k].out, g[k].nout, bodies);
+	}
+}
+
+/* link_body - a body into its group's tail-call array, when it was loaded */
+static int link_body(struct bpf_object *obj, const char *prog, const char *map)
+{
+	struct bpf_program *p = bpf_object__find_program_by_name(obj, prog);
+	struct bpf_map *m = bpf_object__find_map_by_name(obj, map);
+	__u32 zero = 0;
+	int fd = p ? bpf_program__fd(p) : -1;
+
+	if (fd < 0)
+		return 0;
+	return m && !bpf_map_update_elem(bpf_map__fd(m), &zero, &fd, BPF_ANY) ? 0 : -1;
+}
+
+/* link_sys_bodies - the stubs' tail-call targets, once loaded */
+static int link_sys_bodies(struct rtsup_bpf *s)
+{
+	if (link_body(s->obj, "sys_in_prog", "sys_in_body") ||
+	    link_body(s->obj, "sys_out_prog", "sys_out_body") ||
+	    link_body(s->obj, "sys_in_prog_z", "sys_in_body_z") ||
+	    link_body(s->obj, "sys_out_prog_z", "sys_out_body_z")) {
+		fprintf(stderr, "rtsup-trace: per-syscall hooks: cannot link their programs: %s\n",
+			strerror(errno));
+		return -1;
+	}
 	return 0;
 }
 
@@ -191,7 +394,10 @@ static int floor_start(struct loader *l, const struct options *o)
 	if (!e)
 		return -errno;
 	l->floor = e;
-	select_programs(e->obj, l->tp_btf, o->can, l->fault_stacks, l->rt_hook, false);
+	select_programs(e->obj, l->tp_btf, o->can, l->fault_stacks, l->rt_hook, false,
+			l->sys_per);
+	/* empty stubs on the same syscalls; no body to call */
+	set_sys_hooks(e->obj, l->by_proto, false);
 	bpf_program__set_autoattach(e->progs.rt_setsched, false);
 	/* its maps are never used: keep them small */
 	bpf_object__for_each_map(m, e->obj)
@@ -212,6 +418,8 @@ static int floor_start(struct loader *l, const struct options *o)
  * without the policy hook, which --rt replaces by its per-switch read.
  */
 static bool rt_hook_failed;
+/* the same for the per-syscall hooks: raw_syscalls instead (--syscall-hooks auto) */
+static bool sys_per_failed;
 /* the same for the task iterator (an old kernel): the collector asks per thread */
 static bool attrs_iter_failed;
 
@@ -227,6 +435,13 @@ static int prog_info(const struct bpf_program *p, struct bpf_prog_info *info)
 	return bpf_obj_get_info_by_fd(fd, info, &len) ? -1 : 0;
 }
 
+/* is_sys_stub - a per-syscall stub (sys_in_NN, sys_out_z_NN...), not a body (_prog) */
+static bool is_sys_stub(const char *name)
+{
+	return (!strncmp(name, "sys_in_", 7) || !strncmp(name, "sys_out_", 8)) &&
+	       !strstr(name, "_prog");
+}
+
 /*
  * print_verified - -v: how many instructions the verifier walked per program
  * (the kernel's verified_insns, 5.16 and later). That walk is most of a
@@ -240,14 +455,25 @@ static void print_verified(const struct bpf_object *obj)
 	size_t n = 0;
 	__u64 total = 0;
 
+	__u64 stubs = 0;
+	int nstubs = 0;
+
 	bpf_object__for_each_program(p, obj) {
 		if (prog_info(p, &info) || !info.verified_insns)
 			continue;
 		total += info.verified_insns;
+		if (is_sys_stub(bpf_program__name(p))) {	/* fifty alike: one sum */
+			stubs += info.verified_insns;
+			nstubs++;
+			continue;
+		}
 		if (n < sizeof(line))
 			n += snprintf(line + n, sizeof(line) - n, "%s%s %u", n ? ", " : "",
 				      bpf_program__name(p), info.verified_insns);
 	}
+	if (nstubs && n < sizeof(line))
+		snprintf(line + n, sizeof(line) - n, ", sys_stubs*%d %llu", nstubs,
+			 (unsigned long long)stubs);
 	if (total)
 		fprintf(stderr, "rtsup-trace: verified %llu instructions: %s\n",
 			(unsigned long long)total, line);
@@ -290,10 +516,29 @@ int loader_start(struct loader *l, const struct options *o)
 	l->rt_hook = o->targets.rt && l->tp_btf && !rt_hook_failed &&
 		     has_function(kbtf, RTSUP_RT_HOOK_FN);
 	s->rodata->cfg_steal_off = stolen ? steal_offset(kbtf) : 0;
+	if (build_sysclass(o)) {
+		btf__free(kbtf);
+		goto fail;
+	}
+	/* per-syscall hooks: fentry on the syscalls' functions, so tp_btf's kernels only */
+	l->sys_per = o->sys_hooks != SYS_HOOKS_RAW && l->tp_btf && !sys_per_failed &&
+		     plan_sys_hooks(l, o, kbtf);
 	btf__free(kbtf);
+	if (o->sys_hooks == SYS_HOOKS_PER && !l->sys_per) {
+		fprintf(stderr, "rtsup-trace: --syscall-hooks per-syscall: %s\n",
+			o->raw_tp ? "they are BTF programs: not with --raw-tp" :
+			!l->tp_btf ? "this kernel has no tp_btf (BTF tracing programs)" :
+			sys_per_failed ? "the kernel refused them (-v says why)" :
+			"no syscall function found in the kernel's BTF");
+		goto fail;
+	}
+	s->rodata->cfg_sys_per = l->sys_per;
 	/* the targets' attributes in one read a sample, where tracing programs load */
 	l->attrs_iter = l->tp_btf && !attrs_iter_failed && !o->floor;
-	select_programs(s->obj, l->tp_btf, o->can, l->fault_stacks, l->rt_hook, l->attrs_iter);
+	select_programs(s->obj, l->tp_btf, o->can, l->fault_stacks, l->rt_hook, l->attrs_iter,
+			l->sys_per);
+	if (l->sys_per)
+		set_sys_hooks(s->obj, l->by_proto, true);
 	/* attached on their own below, to know that they failed */
 	bpf_program__set_autoattach(s->progs.rt_setsched, false);
 	bpf_program__set_autoattach(s->progs.attrs_task, false);
@@ -340,6 +585,18 @@ int loader_start(struct loader *l, const struct options *o)
 		bpf_map__set_max_entries(s->maps.cycles, 4 << 20);
 
 	err = rtsup_bpf__load(s);
+	if (err && l->sys_per && o->sys_hooks == SYS_HOOKS_AUTO) {
+		/* fentry refused (a security module: EPERM): raw_syscalls, as before */
+		loader_stop(l);
+		sys_per_failed = true;
+		return loader_start(l, o);
+	}
+	if (err && l->sys_per) {
+		fprintf(stderr, "rtsup-trace: --syscall-hooks per-syscall: the kernel refuses "
+				"fentry programs on syscalls: %s (-v says why; auto falls back "
+				"to raw_syscalls)\n", strerror(-err));
+		goto fail;
+	}
 	if (err && l->rt_hook) {
 		/* the hook's fault or not: the second try without it says which */
 		loader_stop(l);
@@ -366,7 +623,7 @@ int loader_start(struct loader *l, const struct options *o)
 	}
 	if (o->verbose)
 		print_verified(s->obj);
-	if (fill_sysclass(s, o))
+	if (fill_sysclass(s) || (l->sys_per && !o->floor && link_sys_bodies(s)))
 		goto fail;
 	if (o->targets.cgroup) {
 		__u32 zero = 0;
@@ -380,6 +637,11 @@ int loader_start(struct loader *l, const struct options *o)
 		}
 	}
 	err = rtsup_bpf__attach(s);
+	if (err && l->sys_per && o->sys_hooks == SYS_HOOKS_AUTO) {
+		loader_stop(l);
+		sys_per_failed = true;
+		return loader_start(l, o);
+	}
 	if (!err && l->rt_hook && !o->floor) {
 		s->links.rt_setsched = bpf_program__attach(s->progs.rt_setsched);
 		if (!s->links.rt_setsched) {

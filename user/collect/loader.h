@@ -5,6 +5,7 @@
 
 #include <stdbool.h>
 #include "options.h"
+#include "model/syshooks.h"
 
 struct rtsup_bpf;
 struct rtsup_empty_bpf;
@@ -16,6 +17,10 @@ struct loader {
 	bool fault_stacks;	/* --stacks: the user page fault hook is attached */
 	bool rt_hook;		/* --rt: the policy hook is attached (rtfollow.h) */
 	bool attrs_iter;	/* the task iterator is loaded (taskattrs.h) */
+	bool sys_per;		/* per-syscall hooks, on the syscalls in hooks; else raw_syscalls */
+	struct sys_hookset hooks;
+	/* hooks by the prototype of their function: [0] with arguments, [1] without */
+	struct sys_hookset by_proto[2];
 	int cgroup_fd;
 	int stats_fd;		/* holds BPF run-time statistics on, -1 = off */
 };

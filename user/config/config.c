@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "config/fields.h"
+#include "model/syscalls.h"
 
 /* no more than a thread's settings in the kernel hold (struct rtsup_thread_cfg) */
 #define MAX_DELIMS	RTSUP_CFG_DELIMS
@@ -412,6 +413,33 @@ void config_stack_plan(const struct config *c, struct stack_plan *p)
 		}
 		if (r->stacks != p->kind || (stack_dwarf(r->stacks) && r->stack_size != p->size))
 			p->rules = true;
+	}
+}
+
+/* add_names - the numbers of names (checked at load) not yet in v, up to SYS_RULE_NAMES */
+static void add_names(__u16 *v, int *n, const char (*names)[32], int count)
+{
+	int i, j, nr;
+
+	for (i = 0; i < count && *n < SYS_RULE_NAMES; i++) {
+		nr = syscall_nr(names[i]);
+		for (j = 0; j < *n && v[j] != nr; j++)
+			;
+		if (nr >= 0 && j == *n)
+			v[(*n)++] = nr;
+	}
+}
+
+void config_sys_names(const struct config *c, struct sys_rule_names *n)
+{
+	int i;
+
+	memset(n, 0, sizeof(*n));
+	for (i = -1; i < c->nrules; i++) {
+		const struct rule *r = i < 0 ? &c->defaults : &c->rules[i];
+
+		add_names(n->delims, &n->ndelims, r->delims, r->ndelims);
+		add_names(n->forbid, &n->nforbid, r->forbid, r->nforbid);
 	}
 }
 

@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <linux/types.h>
 #include "config/actionspec.h"
+#include "model/syshooks.h"
 #include "rtsup.h"
 
 #define CONFIG_MAX_SYSCALLS	16
@@ -163,6 +164,8 @@ int config_match(const struct config *c, const char *process, const char *thread
 int config_can_node(const struct config *c, const char *iface, __u32 id, int dir);
 /* config_stack_plan - the stacks every rule may ask for (after the command line's) */
 void config_stack_plan(const struct config *c, struct stack_plan *p);
+/* config_sys_names - the syscalls the rules name (per-syscall hooks must cover them) */
+void config_sys_names(const struct config *c, struct sys_rule_names *n);
 /* config_add_action - append an action (--on-level); -1 when ACTION_MAX are there */
 int config_add_action(struct config *c, const struct action *a);
 /* config_print - the effective configuration, in the file's YAML form */

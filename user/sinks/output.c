@@ -411,6 +411,9 @@ static json_t *json_common(const struct collector *c, const struct supervisor *s
 				    json_null());
 		json_object_set_new(su, "loop_wait_s", sp->wait_s >= 0 ? json_real(sp->wait_s) :
 				    json_null());
+		/* per-syscall: the syscall counts leave out what no hook watches (design.md) */
+		if (c->sys_hooks)
+			json_object_set_new(su, "syscall_hooks", json_string(c->sys_hooks));
 		json_object_set_new(o, "health", json_health(&sv->health));
 		/* cause attribution's limit (design.md): waits it had no slot for */
 		json_object_set_new(o, "waits_not_attributed",

@@ -237,6 +237,43 @@ static void test_config_warmup(void **state)
 
 static void round_trip(const char *path);
 
+/* in_list - is nr among v's n numbers, once? */
+static bool once_in(const __u16 *v, int n, int nr)
+{
+	int i, k = 0;
+
+	for (i = 0; i < n; i++)
+		k += v[i] == nr;
+	return k == 1;
+}
+
+/* the syscalls every rule names, for the per-syscall hooks: each once */
+static void test_config_sys_names(void **state)
+{
+	struct sys_rule_names n;
+	struct config c;
+	int i, k;
+
+	(void)state;
+	load_ok(DIR "good-full.yaml", &c);
+	config_sys_names(&c, &n);
+	for (i = -1; i < c.nrules; i++) {
+		const struct rule *r = i < 0 ? &c.defaults : &c.rules[i];
+
+		for (k = 0; k < r->ndelims; k++)
+			assert_true(once_in(n.delims, n.ndelims, syscall_nr(r->delims[k])));
+		for (k = 0; k < r->nforbid; k++)
+			assert_true(once_in(n.forbid, n.nforbid, syscall_nr(r->forbid[k])));
+	}
+	/* the file's: clock_nanosleep, nanosleep, epoll_pwait; ioctl and the rules' */
+	assert_true(once_in(n.delims, n.ndelims, syscall_nr("epoll_pwait")));
+	assert_true(once_in(n.forbid, n.nforbid, syscall_nr("ioctl")));
+	assert_true(once_in(n.forbid, n.nforbid, syscall_nr("mmap")));
+	/* an allowed name needs no hook of its own */
+	assert_false(once_in(n.forbid, n.nforbid, syscall_nr("writev")));
+	config_free(&c);
+}
+
 /* stacks: and stack_size: per rule, over the defaults' (issue 15) */
 static void test_config_stacks(void **state)
 {
@@ -1235,6 +1272,7 @@ int main(void)
 		T(bad_cycle_syscall),
 		cmocka_unit_test(test_config_warmup),
 		cmocka_unit_test(test_config_stacks),
+		cmocka_unit_test(test_config_sys_names),
 		cmocka_unit_test(test_config_stack_plan_off),
 		T(bad_too_many_delims),
 		T(bad_too_many_allow),
