@@ -526,6 +526,54 @@ def prog_run_time(pid):
     return total
 
 
+def foreign_stats_holders(own_pid):
+    """Processes but own_pid that hold the kernel's BPF statistics on by an fd
+    (BPF_ENABLE_STATS, anon_inode:bpf-stats; /proc/sys does not show those):
+    another rtsup-trace's window, a bench."""
+    pids = set()
+    for p in os.listdir("/proc"):
+        if not p.isdigit() or int(p) == own_pid:
+            continue
+        try:
+            for fd in os.listdir("/proc/%s/fd" % p):
+                if os.readlink("/proc/%s/fd/%s" % (p, fd)) == "anon_inode:bpf-stats":
+                    pids.add(int(p))
+                    break
+        except OSError:
+            continue
+    return pids
+
+
+def stats_window(tmp_path):
+    """Our programs' run time, sampled every 5 ms for 2.5 s after a start:
+    (times it grew, spans when another process held statistics on, intervals).
+    Another tool's window makes our run time grow too (a CI run here failed
+    so, beside a test run by hand): scans of /proc every few tens of ms,
+    shorter than such a window, mark when one was held."""
+    lg = Loadgen(tmp_path, ["-n", "2", "-c", str(3000000 // PERIOD_US)])
+    tr = Trace(["--pid", str(lg.pid), "-i", "1s"])
+    seen, foreign, done, t0 = [], [], threading.Event(), time.monotonic()
+
+    def scan():
+        while not done.is_set():
+            a = time.monotonic() - t0
+            if foreign_stats_holders(tr.proc.pid):
+                foreign.append((a, time.monotonic() - t0))
+            time.sleep(0.01)
+    scanner = threading.Thread(target=scan)
+    scanner.start()
+    try:
+        while time.monotonic() - t0 < 2.5:
+            seen.append((time.monotonic() - t0, prog_run_time(tr.proc.pid)))
+            time.sleep(0.005)
+        intervals, _, _ = tr.stop()
+    finally:
+        done.set()
+        scanner.join()
+        lg.stop()
+    return [t for (t, a), (_, b) in zip(seen, seen[1:]) if b > a], foreign, intervals
+
+
 def test_overhead_sampled_in_a_short_window(tmp_path):
     """BPF statistics cost every BPF program on the machine two clock reads per
     run: rtsup-trace switches them on for a short window (100 ms) at the start
@@ -533,17 +581,13 @@ def test_overhead_sampled_in_a_short_window(tmp_path):
     if stats_enabled() != 0:
         # the guest pins them on (docs/vm-test.md), another tool may hold them
         pytest.skip("kernel.bpf_stats_enabled is already on: the window cannot be seen")
-    lg = Loadgen(tmp_path, ["-n", "2", "-c", str(3000000 // PERIOD_US)])
-    tr = Trace(["--pid", str(lg.pid), "-i", "1s"])
-    seen, t0 = [], time.monotonic()
-    try:
-        while time.monotonic() - t0 < 2.5:
-            seen.append((time.monotonic() - t0, prog_run_time(tr.proc.pid)))
-            time.sleep(0.005)
-        intervals, _, _ = tr.stop()
-    finally:
-        lg.stop()
-    grew = [t for (t, a), (_, b) in zip(seen, seen[1:]) if b > a]
+    # a run beside another holder says nothing: again, three times at most
+    for attempt in range(3):
+        (tmp_path / str(attempt)).mkdir()
+        grew, foreign, intervals = stats_window(tmp_path / str(attempt))
+        if not foreign:
+            break
+    assert not foreign, "another process held BPF statistics on in each of 3 runs"
     assert grew, "the statistics were never switched on"
     # 100 ms; a loaded machine may stretch it, never to the whole interval
     assert max(grew) - min(grew) < 0.5, "on from %.3f s to %.3f s" % (min(grew), max(grew))
