@@ -799,9 +799,13 @@ def test_bad_event_buffer_one_line(size):
     (["--top", "-1"], "--top '-1': want a number from 0 to 1048576"),
     (["--json-threads", "some"], "--json-threads 'some': want all or active"),
     (["--json-threads", ""], "--json-threads '': want all or active"),
+    (["--syscall-hooks", "fentry"], "--syscall-hooks 'fentry': want auto, per-syscall or raw"),
+    (["--raw-tp", "--syscall-hooks", "per-syscall"],
+     "--syscall-hooks per-syscall: they are BTF programs: not with --raw-tp"),
 ])
 def test_bad_row_options_one_line(args, why):
-    """--top and --json-threads: a bad value is one line and exit 1."""
+    """--top, --json-threads and --syscall-hooks: a bad value (or pair) is
+    one line and exit 1."""
     r = subprocess.run([str(TRACE)] + args + ["-p", "1"], capture_output=True, text=True,
                        timeout=30)
     assert r.returncode == 1
