@@ -271,3 +271,21 @@ def run_supervised(tmp_path, lg_args, trace_args=None, nthreads=2):
         if tr.proc.poll() is None:
             tr.proc.kill()
     return truth, intervals, summary
+
+
+def fdinfo_values(pid, key):
+    """The values of key ("prog_id", "run_time_ns") in the fdinfo of every
+    fd a process holds: BPF program fds say both"""
+    vals = []
+    for fd in os.listdir("/proc/%d/fdinfo" % pid):
+        try:
+            with open("/proc/%d/fdinfo/%s" % (pid, fd)) as f:
+                vals += [int(line.split()[1]) for line in f if line.startswith(key + ":")]
+        except OSError:
+            continue
+    return vals
+
+
+def prog_ids(pid):
+    """The ids of the BPF programs a process holds"""
+    return set(fdinfo_values(pid, "prog_id"))

@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 
 from conftest import (BUILD, CLEAN_DEFAULTS, LEVEL_CHANGE, LOADGEN, PERIOD_US, TRACE, Loadgen,
-                      Trace, threads_by_tid, unique_prefix)
+                      Trace, prog_ids, threads_by_tid, unique_prefix)
 
 pytestmark = pytest.mark.usefixtures("bpf")
 
@@ -619,25 +619,12 @@ def test_prometheus_hostile_clients(tmp_path):
 
 # --- kill -9 -----------------------------------------------------------------
 
-def our_prog_ids(pid):
-    """The BPF programs a process holds, from its file descriptors' fdinfo."""
-    ids = set()
-    for fd in Path("/proc/%d/fdinfo" % pid).iterdir():
-        try:
-            for line in fd.read_text().splitlines():
-                if line.startswith("prog_id:"):
-                    ids.add(int(line.split()[1]))
-        except OSError:
-            pass
-    return ids
-
-
 def test_kill9_leaves_nothing_attached():
     """kill -9: the kernel frees our programs with the process (no pinning,
     links held by fds only): `bpftool prog show id N` finds none of them;
     a new run starts at once."""
     tr = Trace(["-p", "1", "--no-overhead"])
-    ids = our_prog_ids(tr.proc.pid)
+    ids = prog_ids(tr.proc.pid)
     assert len(ids) >= 5, ids
     tr.proc.kill()
     tr.proc.wait(timeout=10)

@@ -9,7 +9,7 @@ import time
 
 import pytest
 
-from conftest import (EMULATED, LOADGEN, PERIOD_US, TRACE, Loadgen, Trace, run_supervised,
+from conftest import (EMULATED, LOADGEN, PERIOD_US, TRACE, Loadgen, Trace, prog_ids, run_supervised,
                       threads_by_tid, unique_prefix)
 
 pytestmark = pytest.mark.usefixtures("bpf")
@@ -515,19 +515,19 @@ def stats_enabled():
         return int(f.read())
 
 
+def held_progs(pid):
+    """bpftool's record of each BPF program a process holds (name, run_cnt,
+    verified_insns...): one bpftool for all"""
+    ids = prog_ids(pid)
+    r = subprocess.run(["bpftool", "-j", "prog", "show"], capture_output=True, text=True,
+                       check=True)
+    return [p for p in json.loads(r.stdout) if p["id"] in ids]
+
+
 def prog_run_time(pid):
     """run_time_ns summed over the BPF programs a process holds: it grows
     only while the kernel's BPF statistics are on"""
-    total = 0
-    for fd in os.listdir("/proc/%d/fdinfo" % pid):
-        try:
-            with open("/proc/%d/fdinfo/%s" % (pid, fd)) as f:
-                for line in f:
-                    if line.startswith("run_time_ns:"):
-                        total += int(line.split()[1])
-        except OSError:
-            pass
-    return total
+    return sum(fdinfo_values(pid, "run_time_ns"))
 
 
 def foreign_stats_holders(own_pid):
@@ -1039,20 +1039,8 @@ elif mode == "drop":
 
 
 def prog_names(pid):
-    """The names of the BPF programs a process holds (fdinfo's prog_id)."""
-    names = set()
-    for fd in os.listdir("/proc/%d/fdinfo" % pid):
-        try:
-            with open("/proc/%d/fdinfo/%s" % (pid, fd)) as f:
-                ids = [line.split()[1] for line in f if line.startswith("prog_id:")]
-        except OSError:
-            continue
-        for i in ids:
-            r = subprocess.run(["bpftool", "-j", "prog", "show", "id", i],
-                               capture_output=True, text=True)
-            if r.returncode == 0:
-                names.add(json.loads(r.stdout)["name"])
-    return names
+    """The names of the BPF programs a process holds"""
+    return {p["name"] for p in held_progs(pid)}
 
 
 # "policy": --rt's policy hook (fexit on __sched_setscheduler); "switch": the
@@ -1260,36 +1248,17 @@ def test_json_threads_active_lists_what_ran(tmp_path):
     assert workers <= set(threads_by_tid(summary)), err
 
 
-def prog_ids(pid):
-    """The ids of the BPF programs a process holds (fdinfo's prog_id)"""
-    ids = set()
-    for fd in os.listdir("/proc/%d/fdinfo" % pid):
-        try:
-            with open("/proc/%d/fdinfo/%s" % (pid, fd)) as f:
-                ids |= {int(line.split()[1]) for line in f if line.startswith("prog_id:")}
-        except OSError:
-            continue
-    return ids
-
-
 def verified_insns(pid):
     """The verifier's walk of each program a process holds, by name"""
-    ids = prog_ids(pid)
-    r = subprocess.run(["bpftool", "-j", "prog", "show"], capture_output=True, text=True,
-                       check=True)
-    return {p["name"]: p.get("verified_insns", 0) for p in json.loads(r.stdout)
-            if p["id"] in ids}
+    return {p["name"]: p.get("verified_insns", 0) for p in held_progs(pid)}
 
 
 def sys_prog_runs(pid):
     """Runs of the syscall programs a tracer holds, summed (bpf_stats'
     run_cnt): the per-syscall stubs and bodies, or raw_syscalls' two. One
     bpftool for all: each process started meanwhile makes syscalls too."""
-    ids = prog_ids(pid)
-    r = subprocess.run(["bpftool", "-j", "prog", "show"], capture_output=True, text=True,
-                       check=True)
-    return sum(p.get("run_cnt", 0) for p in json.loads(r.stdout)
-               if p["id"] in ids and p.get("name", "").startswith("sys_"))
+    return sum(p.get("run_cnt", 0) for p in held_progs(pid)
+               if p.get("name", "").startswith("sys_"))
 
 
 _AUTO = []

@@ -133,6 +133,12 @@ static long long steal_offset(const struct btf *kbtf)
 	return rq >= 0 && st >= 0 && st != rq ? st - rq : 0;
 }
 
+/* is_sys_prog - a per-syscall program: a stub or a body (sys_in_*, sys_out_*) */
+static bool is_sys_prog(const char *name)
+{
+	return !strncmp(name, "sys_in_", 7) || !strncmp(name, "sys_out_", 8);
+}
+
 /*
  * select_programs - keep one of the two program sets; CAN only with --can,
  * the user page fault hook only with --stacks, --rt's policy hook (rt_*)
@@ -150,8 +156,8 @@ static void select_programs(struct bpf_object *obj, bool btf, bool can, bool fau
 		bool is_fault = !strncmp(name, "page_fault_", 11);
 		bool is_raw_sys = !strncmp(name, "sys_enter_", 10) || !strncmp(name, "sys_exit_", 9);
 
-		/* the per-syscall stubs and bodies (sys_in_*, sys_out_*): set_sys_hooks */
-		if (!strncmp(name, "sys_in_", 7) || !strncmp(name, "sys_out_", 8))
+		/* the per-syscall stubs and bodies: set_sys_hooks */
+		if (is_sys_prog(name))
 			bpf_program__set_autoload(p, sys_per);
 		else if (is_raw_sys && sys_per)
 			bpf_program__set_autoload(p, false);
@@ -215,16 +221,26 @@ static const char *sys_fn(int nr, char *buf, size_t len)
 	return buf;
 }
 
-/* the stubs of each prototype group (rtsup.bpf.c, SYS_ROW) */
+/* the stubs of each prototype group (rtsup.bpf.c, SYS_ROW), per direction: entry, exit */
 static const struct sys_group {
-	const char *in_fmt, *out_fmt, *in_body, *out_body;
-	int in_slots, out_slots;
+	const char *stub_fmt[2], *body[2], *body_map[2];
+	int slots[2];
+	const char *what;
 } sys_groups[2] = {
-	{ "sys_in_%d%d", "sys_out_%d%d", "sys_in_prog", "sys_out_prog",
-	  RTSUP_SYS_IN_SLOTS, RTSUP_SYS_OUT_SLOTS },
-	{ "sys_in_z_%d%d", "sys_out_z_%d%d", "sys_in_prog_z", "sys_out_prog_z",
-	  RTSUP_SYS_IN_SLOTS_Z, RTSUP_SYS_OUT_SLOTS_Z },
+	{ { "sys_in_%d%d", "sys_out_%d%d" }, { "sys_in_prog", "sys_out_prog" },
+	  { "sys_in_body", "sys_out_body" }, { RTSUP_SYS_IN_SLOTS, RTSUP_SYS_OUT_SLOTS },
+	  "with arguments" },
+	{ { "sys_in_z_%d%d", "sys_out_z_%d%d" }, { "sys_in_prog_z", "sys_out_prog_z" },
+	  { "sys_in_body_z", "sys_out_body_z" },
+	  { RTSUP_SYS_IN_SLOTS_Z, RTSUP_SYS_OUT_SLOTS_Z }, "without arguments" },
 };
+
+/* hookset_dir - a hookset's syscalls of one direction (0 entry, 1 exit) and their count */
+static __u16 *hookset_dir(struct sys_hookset *h, int out, int **n)
+{
+	*n = out ? &h->nout : &h->nin;
+	return out ? h->out : h->in;
+}
 
 /* fn_proto - the BTF prototype of the function behind syscall nr, 0 when none */
 static __u32 fn_proto(const struct btf *kbtf, int nr)
@@ -240,46 +256,43 @@ static __u32 fn_proto(const struct btf *kbtf, int nr)
 
 /*
  * split_by_proto - the hooked syscalls by their function's prototype: the
- * one of read's function (arguments), and one other (none); a syscall the
- * kernel has no function for, or of a third prototype, is not hooked
- * (dropped from h). False when a group has more than its stubs.
+ * one of read's function (arguments, group 0), and one other (none, group
+ * 1); a syscall the kernel has no function for, or of a third prototype, is
+ * not hooked (dropped from h). False when a group has more than its stubs.
  */
 static bool split_by_proto(const struct btf *kbtf, struct sys_hookset *h,
 			   struct sys_hookset g[2], char *err, size_t errlen)
 {
-	__u32 proto[2] = { fn_proto(kbtf, syscall_nr("read")), 0 }, p;
-	int i, k, pass;
+	__u32 proto[2] = { fn_proto(kbtf, syscall_nr("read")), 0 };
+	int i, k, dir, *n, *gn, kept;
+	__u16 *v, *gv;
 
 	memset(g, 0, 2 * sizeof(*g));
-	for (pass = 0; pass < 2; pass++) {
-		const __u16 *v = pass ? h->out : h->in;
-		__u16 *kept = pass ? h->out : h->in;
-		int n = pass ? h->nout : h->nin, nk = 0;
+	for (dir = 0; dir < 2; dir++) {
+		v = hookset_dir(h, dir, &n);
+		for (i = 0, kept = 0; i < *n; i++) {
+			__u32 p = fn_proto(kbtf, v[i]);
 
-		for (i = 0; i < n; i++) {
-			p = fn_proto(kbtf, v[i]);
-			if (p && !proto[1] && p != proto[0])
-				proto[1] = p;
-			k = p && p == proto[0] ? 0 : p && p == proto[1] ? 1 : -1;
-			if (k < 0)
+			if (!p)
 				continue;
-			if ((pass ? g[k].nout : g[k].nin) ==
-			    (pass ? sys_groups[k].out_slots : sys_groups[k].in_slots)) {
+			if (p != proto[0] && !proto[1])
+				proto[1] = p;
+			if (p == proto[0])
+				k = 0;
+			else if (p == proto[1])
+				k = 1;
+			else
+				continue;
+			gv = hookset_dir(&g[k], dir, &gn);
+			if (*gn == sys_groups[k].slots[dir]) {
 				snprintf(err, errlen, "more syscalls %s than their %d stubs",
-					 k ? "without arguments" : "with arguments",
-					 pass ? sys_groups[k].out_slots : sys_groups[k].in_slots);
+					 sys_groups[k].what, sys_groups[k].slots[dir]);
 				return false;
 			}
-			if (pass)
-				g[k].out[g[k].nout++] = v[i];
-			else
-				g[k].in[g[k].nin++] = v[i];
-			kept[nk++] = v[i];
+			gv[(*gn)++] = v[i];
+			v[kept++] = v[i];
 		}
-		if (pass)
-			h->nout = nk;
-		else
-			h->nin = nk;
+		*n = kept;
 	}
 	return proto[0] != 0;
 }
@@ -343,15 +356,16 @@ static void set_body(struct bpf_object *obj, const char *name, const __u16 *v, i
  */
 static void set_sys_hooks(struct bpf_object *obj, const struct sys_hookset g[2], bool bodies)
 {
-	int k;
+	int k, dir;
 
-	for (k = 0; k < 2; k++) {
-		set_slots(obj, sys_groups[k].in_fmt, sys_groups[k].in_slots, g[k].in, g[k].nin);
-		set_slots(obj, sys_groups[k].out_fmt, sys_groups[k].out_slots, g[k].out,
-			  g[k].nout);
-		set_body(obj, sys_groups[k].in_body, g[k].in, g[k].nin, bodies);
-		set_body(obj, sys_groups[k].out_body, g[k].out, g[k].nout, bodies);
-	}
+	for (k = 0; k < 2; k++)
+		for (dir = 0; dir < 2; dir++) {
+			const __u16 *v = dir ? g[k].out : g[k].in;
+			int n = dir ? g[k].nout : g[k].nin;
+
+			set_slots(obj, sys_groups[k].stub_fmt[dir], sys_groups[k].slots[dir], v, n);
+			set_body(obj, sys_groups[k].body[dir], v, n, bodies);
+		}
 }
 
 /* link_body - a body into its group's tail-call array, when it was loaded */
@@ -370,14 +384,15 @@ static int link_body(struct bpf_object *obj, const char *prog, const char *map)
 /* link_sys_bodies - the stubs' tail-call targets, once loaded */
 static int link_sys_bodies(struct rtsup_bpf *s)
 {
-	if (link_body(s->obj, "sys_in_prog", "sys_in_body") ||
-	    link_body(s->obj, "sys_out_prog", "sys_out_body") ||
-	    link_body(s->obj, "sys_in_prog_z", "sys_in_body_z") ||
-	    link_body(s->obj, "sys_out_prog_z", "sys_out_body_z")) {
-		fprintf(stderr, "rtsup-trace: per-syscall hooks: cannot link their programs: %s\n",
-			strerror(errno));
-		return -1;
-	}
+	int k, dir;
+
+	for (k = 0; k < 2; k++)
+		for (dir = 0; dir < 2; dir++)
+			if (link_body(s->obj, sys_groups[k].body[dir], sys_groups[k].body_map[dir])) {
+				fprintf(stderr, "rtsup-trace: per-syscall hooks: cannot link "
+					"their programs: %s\n", strerror(errno));
+				return -1;
+			}
 	return 0;
 }
 
@@ -438,8 +453,7 @@ static int prog_info(const struct bpf_program *p, struct bpf_prog_info *info)
 /* is_sys_stub - a per-syscall stub (sys_in_NN, sys_out_z_NN...), not a body (_prog) */
 static bool is_sys_stub(const char *name)
 {
-	return (!strncmp(name, "sys_in_", 7) || !strncmp(name, "sys_out_", 8)) &&
-	       !strstr(name, "_prog");
+	return is_sys_prog(name) && !strstr(name, "_prog");
 }
 
 /*
