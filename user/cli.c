@@ -213,6 +213,42 @@ static int bad(struct argp_state *st, const char *opt, const char *arg, const ch
 	return EINVAL;
 }
 
+/* the words an option takes, and the value each gives */
+struct choice {
+	const char *word;
+	int value;
+};
+
+static const struct choice json_threads_words[] = { { "all", 0 }, { "active", 1 }, { 0 } };
+static const struct choice syscall_hooks_words[] = {
+	{ "auto", SYS_HOOKS_AUTO }, { "per-syscall", SYS_HOOKS_PER }, { "raw", SYS_HOOKS_RAW }, { 0 }
+};
+static const struct choice color_words[] = { { "auto", -1 }, { "always", 1 }, { "never", 0 },
+					     { 0 } };
+static const struct choice fail_on_words[] = { { "warn", LEVEL_WARN }, { "error", LEVEL_ERROR },
+					       { 0 } };
+
+/* choose - *out from arg's word in c; else EINVAL with "want a, b or c" printed */
+static int choose(struct argp_state *st, const char *opt, const char *arg,
+		  const struct choice *c, int *out)
+{
+	char want[128] = "want ";
+	size_t n = strlen(want);
+	int i;
+
+	for (i = 0; c[i].word; i++)
+		if (!strcmp(arg, c[i].word)) {
+			*out = c[i].value;
+			return 0;
+		}
+	for (i = 0; c[i].word && n < sizeof(want); i++) {
+		const char *sep = !i ? "" : c[i + 1].word ? ", " : " or ";
+
+		n += snprintf(want + n, sizeof(want) - n, "%s%s", sep, c[i].word);
+	}
+	return bad(st, opt, arg, want);
+}
+
 static error_t parse_opt(int key, char *arg, struct argp_state *st)
 {
 	struct options *o = st->input;
@@ -220,6 +256,7 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 	char *tok, *save;
 	double d;
 	long v;
+	int word;
 
 	switch (key) {
 	case 'p':
@@ -313,33 +350,14 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 		o->top = v;
 		break;
 	case OPT_JSON_THREADS:
-		if (!strcmp(arg, "all"))
-			o->json_active = false;
-		else if (!strcmp(arg, "active"))
-			o->json_active = true;
-		else
-			return bad(st, "--json-threads", arg, "want all or active");
+		if (choose(st, "--json-threads", arg, json_threads_words, &word))
+			return EINVAL;
+		o->json_active = word;
 		break;
 	case OPT_SYSCALL_HOOKS:
-		if (!strcmp(arg, "auto"))
-			o->sys_hooks = SYS_HOOKS_AUTO;
-		else if (!strcmp(arg, "per-syscall"))
-			o->sys_hooks = SYS_HOOKS_PER;
-		else if (!strcmp(arg, "raw"))
-			o->sys_hooks = SYS_HOOKS_RAW;
-		else
-			return bad(st, "--syscall-hooks", arg, "want auto, per-syscall or raw");
-		break;
+		return choose(st, "--syscall-hooks", arg, syscall_hooks_words, &o->sys_hooks);
 	case OPT_COLOR:
-		if (!strcmp(arg, "auto"))
-			o->color = -1;
-		else if (!strcmp(arg, "always"))
-			o->color = 1;
-		else if (!strcmp(arg, "never"))
-			o->color = 0;
-		else
-			return bad(st, "--color", arg, "want auto, always or never");
-		break;
+		return choose(st, "--color", arg, color_words, &o->color);
 	case OPT_CONFIG:
 		o->config_path = arg;
 		break;
@@ -350,13 +368,7 @@ static error_t parse_opt(int key, char *arg, struct argp_state *st)
 		o->check = true;
 		break;
 	case OPT_FAIL_ON:
-		if (!strcmp(arg, "warn"))
-			o->fail_on = LEVEL_WARN;
-		else if (!strcmp(arg, "error"))
-			o->fail_on = LEVEL_ERROR;
-		else
-			return bad(st, "--fail-on", arg, "want warn or error");
-		break;
+		return choose(st, "--fail-on", arg, fail_on_words, &o->fail_on);
 	case OPT_RECORD:
 		o->record_path = arg;
 		break;
