@@ -83,6 +83,8 @@ const volatile __u32 cfg_netns;		/* inode of rtsup-trace's network namespace */
 const volatile __u32 cfg_canopen;	/* match CANopen SDO requests and responses */
 /* per-syscall hooks: no hook saw every syscall, a block's is read at its switch-out */
 const volatile __u32 cfg_sys_per;
+/* bpf_task_pt_regs (5.15): a block's syscall read where it blocks (block_syscall) */
+const volatile __u32 cfg_block_sys;
 const volatile __s64 cfg_steal_off;	/* KVM's steal_time from a run queue (cpu_steal) */
 const volatile char cfg_comms[RTSUP_MAX_COMMS][RTSUP_COMM_LEN];
 const volatile __u32 cfg_stacks;	/* --stacks: enum rtsup_stacks */
@@ -1146,8 +1148,10 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 		unsafe = 1;
 	if (unsafe && (*cls & RTSUP_SC_FDCHECK))
 		unsafe = fd_is_file_or_tty(task, SYSARG(btf, regs, 1));
-	/* what a block inside the cycle waits in (cause.h) */
-	why_syscall(&t->why, nr, *cls & RTSUP_SC_OPKEY ? (SYSARG(btf, regs, 2) & 0x7f) + 1 : 0);
+	/* what a block inside the cycle waits in (cause.h), where block_syscall cannot say */
+	if (!cfg_block_sys)
+		why_syscall(&t->why, nr,
+			    *cls & RTSUP_SC_OPKEY ? (SYSARG(btf, regs, 2) & 0x7f) + 1 : 0);
 	ev = cycle_syscall(t, unsafe);
 	if (ev & CYC_EV_UNSAFE) {
 		/* by number at the cycle's end, like the other counts */
@@ -1332,11 +1336,12 @@ static __always_inline __u32 switch_out_run(struct rtsup_thread *t,
 }
 
 /*
- * block_syscall - per-syscall hooks: the syscall a block waits in, read
- * from the thread's saved registers as it leaves the CPU (prev is still
- * current at sched_switch), since no hook saw an unhooked syscall begin.
- * Outside a syscall (a page fault) it is none; a kernel thread has none,
- * and a 32-bit syscall is left unnamed, as sys_enter leaves it.
+ * block_syscall - the syscall a block waits in, read from the thread's
+ * saved registers as it leaves the CPU (prev is still current at
+ * sched_switch): per-syscall hooks see no unhooked syscall begin, and
+ * sys_enter's last one may have returned. Outside a syscall (a page
+ * fault) it is none; a kernel thread has none, and a 32-bit syscall is
+ * left unnamed, as sys_enter leaves it.
  */
 static __always_inline void block_syscall(struct rtsup_why *w)
 {
@@ -1389,7 +1394,7 @@ __noinline int switch_out_state(struct rtsup_thread *pt, const struct switch_out
 		.minflt = in->minflt, .majflt = in->majflt,
 	};
 
-	if (cfg_sys_per && in->voluntary)
+	if (cfg_block_sys && why_is_block(&pt->cs, in->now, in->voluntary))
 		block_syscall(&pt->why);
 	why_switch_out(&pt->why, &pt->cs, in->now, in->voluntary, in->state);
 	/* a switch-out that reads no clock (asleep in its delimiter) counts no CPU time */
@@ -1422,7 +1427,9 @@ __noinline int switch_out_events(struct rtsup_thread *pt, const struct switch_ou
 			count(RTSUP_C_WHY_BUSY);
 	}
 	if (ev & CYC_EV_BLOCK) {
-		emit(RTSUP_EV_UNSAFE, pt, in->now, RTSUP_U_BLOCK, 0);
+		/* arg2: the syscall it waits in + 1, 0 none or unknown */
+		emit(RTSUP_EV_UNSAFE, pt, in->now, RTSUP_U_BLOCK,
+		     cfg_block_sys ? pt->why.sys_nr : 0);
 		/* prev is the current task: where it blocked */
 		capture_stack(pt, in->now, RTSUP_U_BLOCK, 0);
 	}

@@ -225,13 +225,22 @@ RTSUP_SUBPROG void why_culprit(struct rtsup_cause *c, const struct rtsup_who *wh
 }
 
 /*
+ * why_is_block - does a thread that leaves its CPU (voluntary: to wait) at
+ * 'now' start a block inside its cycle, outside its delimiter?
+ */
+RTSUP_INLINE int why_is_block(const struct rtsup_cycle_state *cs, __u64 now, int voluntary)
+{
+	return voluntary && cs->start && !cs->in_delim && now;
+}
+
+/*
  * why_switch_out - the thread leaves its CPU inside a cycle: a block
  * (voluntary) starts at 'now', to be ended by a wakeup (why_take).
  */
 RTSUP_INLINE void why_switch_out(struct rtsup_why *w, const struct rtsup_cycle_state *cs,
 				 __u64 now, int voluntary, __u32 state)
 {
-	if (!voluntary || !cs->start || cs->in_delim || !now)
+	if (!why_is_block(cs, now, voluntary))
 		return;
 	w->out_ts = now;
 	w->out_dstate = (state & WHY_TASK_UNINTERRUPTIBLE) != 0;

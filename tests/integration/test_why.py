@@ -202,6 +202,46 @@ def test_priority_inversion_on_plain_mutex(bpf, mode):
         assert b["inversion"] == (mode == "mutex"), e
 
 
+def block_events(intervals, tid):
+    """A thread's blocks as its block events say them, by the syscall each
+    waits in (None: none, a page fault): every one, those folded in floods
+    too (a flood keeps its first and last events and counts the rest)."""
+    by = {}
+    for i in intervals:
+        for e in i["events"]:
+            if e["event"] == "unsafe" and e["reason"] == "block" and e["tid"] == tid:
+                by[e["syscall"]] = by.get(e["syscall"], 0) + 1
+        for f in i["events_folded"]:
+            if f["event"] == "unsafe" and f["reason"] == "block" and f["tid"] == tid:
+                by[f["syscall"]] = by.get(f["syscall"], 0) + f["folded"]
+    return by
+
+
+@host_only
+def test_block_names_its_syscall_and_none_in_a_page_fault(bpf):
+    """why-rt blocks in two places (progs/why_late.c, fault): in a page
+    fault that userfaultfd holds 2 ms, right after a write that returned,
+    and in a 2 ms futex wait. Each block event, and the cause of each miss
+    it makes, says futex for the second and no syscall for the first, not
+    the write before it (the last syscall entered: what the causes said
+    before the syscall was read where the block happens)."""
+    truth, rt, intervals = run_why("fault")
+    assert truth["faults"] >= 20 and truth["futex_waits"] >= 20, truth
+    # both kinds are injected and each one slept: counted exactly
+    assert rt["total"]["unsafe"]["block"] == truth["faults"] + truth["futex_waits"], truth
+    assert block_events(intervals, truth["rt_tid"]) == {
+        None: truth["faults"], "futex": truth["futex_waits"]}, truth
+    # each 2 ms block in a 1 ms period makes a miss, named for it (a bigger
+    # part from elsewhere, noise on a shared host, may take one)
+    ev = [e for e in miss_events(intervals, truth["rt_tid"]) if e["cause"]["kind"] == "block"]
+    faults = [e for e in ev if e["cause"]["block"]["waker"]["tid"] == truth["other_tid"]]
+    futex = [e for e in ev if e["cause"]["block"]["syscall"] == "futex"]
+    assert all(e["cause"]["block"]["syscall"] is None for e in faults), faults
+    assert all(e["cause"]["block"]["futex_op"] == 0 for e in futex), futex
+    # miss events fold per cause kind: the first and last of each interval's are kept
+    assert faults and futex, ev
+
+
 @host_only
 def test_preemptor_is_named(bpf):
     """FIFO 70 why-preemptor burns 4 ms every 50 ms inside why-rt's 3 ms of

@@ -547,6 +547,9 @@ int loader_start(struct loader *l, const struct options *o)
 		goto fail;
 	}
 	s->rodata->cfg_sys_per = l->sys_per;
+	/* a block's syscall read where it blocks, where the helper is (5.15) */
+	s->rodata->cfg_block_sys =
+		libbpf_probe_bpf_helper(BPF_PROG_TYPE_RAW_TRACEPOINT, BPF_FUNC_task_pt_regs, NULL) == 1;
 	/* the targets' attributes in one read a sample, where tracing programs load */
 	l->attrs_iter = l->tp_btf && !attrs_iter_failed && !o->floor;
 	select_programs(s->obj, l->tp_btf, o->can, l->fault_stacks, l->rt_hook, l->attrs_iter,

@@ -360,3 +360,14 @@ void causes_free(struct causes *cs)
 	free(cs->g);
 	memset(cs, 0, sizeof(*cs));
 }
+
+const char *unsafe_event_syscall(const struct rtsup_event *e)
+{
+	if (e->type != RTSUP_EV_UNSAFE)
+		return NULL;
+	if (e->arg == RTSUP_U_SYSCALL)
+		return syscall_name(e->arg2);
+	if (e->arg == RTSUP_U_BLOCK && e->arg2)
+		return syscall_name(e->arg2 - 1);
+	return NULL;
+}

@@ -38,6 +38,12 @@ void cause_who_text(char *buf, size_t len, const struct rtsup_who *w, __u32 self
 void causes_group_text(char *buf, size_t len, const struct cause_group *g, __u32 self);
 /* mig_why_name - why a thread migrated (enum rtsup_mig_why): "affinity"... */
 const char *mig_why_name(__u32 why);
+/*
+ * unsafe_event_syscall - the syscall an RT-unsafe event names: the one made
+ * (reason syscall) or the one a block waits in (block: its number + 1 in
+ * arg2, 0 outside any or unknown); NULL when none
+ */
+const char *unsafe_event_syscall(const struct rtsup_event *e);
 /* causes_add - one miss of thread tid with its cause */
 void causes_add(struct causes *cs, __u32 tid, const struct rtsup_cause *c);
 /* causes_sort - by thread, then longest total first */

@@ -24,9 +24,13 @@ static __u64 fold_kind(const struct rtsup_event *e)
 {
 	switch (e->type) {
 	case RTSUP_EV_UNSAFE:
-		/* one flood per reason, and per syscall for syscalls */
-		return e->arg == RTSUP_U_SYSCALL ? (e->arg << 32) | (e->arg2 & 0xffffffff) :
-						  e->arg << 32;
+		/*
+		 * one flood per reason, and per syscall for syscalls and for
+		 * blocks (the one they wait in): a flood of futex waits must
+		 * not hide the one block in a page fault
+		 */
+		return e->arg == RTSUP_U_SYSCALL || e->arg == RTSUP_U_BLOCK ?
+			       (e->arg << 32) | (e->arg2 & 0xffffffff) : e->arg << 32;
 	case RTSUP_EV_SIGNAL:
 		return e->arg;
 	case RTSUP_EV_MISS:

@@ -306,6 +306,9 @@ static json_t *json_event(const struct collector *c, const struct rtsup_event *e
 		json_object_set_new(o, "reason", json_string(unsafe_reason_name(e->arg)));
 		if (e->arg == RTSUP_U_SYSCALL && syscall_name(e->arg2))
 			json_object_set_new(o, "syscall", json_string(syscall_name(e->arg2)));
+		else if (e->arg == RTSUP_U_BLOCK)	/* null: a page fault, or unknown */
+			json_object_set_new(o, "syscall", unsafe_event_syscall(e) ?
+					    json_string(unsafe_event_syscall(e)) : json_null());
 		else if (e->arg == RTSUP_U_MINFLT || e->arg == RTSUP_U_MAJFLT)
 			json_object_set_new(o, "count", json_integer(e->arg2));
 		else if (e->arg == RTSUP_U_MIGRATE)
@@ -721,9 +724,9 @@ static void table_event(const struct collector *c, const struct rtsup_event *e)
 			 why);
 		break;
 	case RTSUP_EV_UNSAFE:
-		sys = e->arg == RTSUP_U_SYSCALL ? syscall_name(e->arg2) : NULL;
+		sys = unsafe_event_syscall(e);
 		snprintf(what, sizeof(what), "RT-unsafe: %s%s%s", unsafe_reason_name(e->arg),
-			 sys ? " " : "", sys ? sys : "");
+			 !sys ? "" : e->arg == RTSUP_U_BLOCK ? " in " : " ", sys ? sys : "");
 		if (e->arg == RTSUP_U_MIGRATE && RTSUP_MIG_FROM(e->arg2) != RTSUP_MIG_NOCPU)
 			snprintf(what, sizeof(what), "RT-unsafe: migration CPU %u -> %u (%s)",
 				 RTSUP_MIG_FROM(e->arg2), RTSUP_MIG_TO(e->arg2),

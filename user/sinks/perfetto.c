@@ -353,6 +353,8 @@ void perfetto_event(struct perfetto *p, const struct rtsup_event *e)
 			 e->arg < RTSUP_U_NR ? unsafe_names[e->arg] : "unknown");
 		if (e->arg == RTSUP_U_SYSCALL)
 			json_object_set_new(a, "nr", json_integer((json_int_t)e->arg2));
+		else if (e->arg == RTSUP_U_BLOCK && unsafe_event_syscall(e))
+			json_object_set_new(a, "syscall", json_string(unsafe_event_syscall(e)));
 		else if (e->arg == RTSUP_U_MINFLT || e->arg == RTSUP_U_MAJFLT)
 			json_object_set_new(a, "count", json_integer((json_int_t)e->arg2));
 		else if (e->arg == RTSUP_U_MIGRATE) {

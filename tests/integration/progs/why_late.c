@@ -23,6 +23,14 @@
  *   why_late machine CPU SECONDS
  *	"why-rt" FIFO 50 alone, 20 ms period, 100 us of work: the lateness
  *	comes from the machine (a guest its hypervisor holds: vm-test hiccups).
+ *   why_late fault CPU SECONDS
+ *	"why-rt" FIFO 50, 1 ms period, 100 us of work, blocks in two places:
+ *	every 100th cycle it writes a byte to /dev/null (a syscall that
+ *	returns) and then touches a page that userfaultfd holds: "why-uffd"
+ *	FIFO 10 resolves the fault 2 ms after it read it (a block in a page
+ *	fault, in no syscall); 50 cycles later it waits 2 ms on a futex that
+ *	nobody wakes (a block in futex). "faults" and "futex_waits" count
+ *	those that slept.
  *
  * SCALE (optional, default 1) makes every period, work, burst and hold of
  * the mode that many times longer: for an emulated guest's slow CPUs.
@@ -44,7 +52,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
+#include <linux/futex.h>
+#include <linux/userfaultfd.h>
+#include <poll.h>
+#include <sys/ioctl.h>
 #include <sys/mman.h>
+#include <sys/syscall.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -61,6 +75,11 @@ static long slept_misses, backlogs, nlate;
 static int64_t late_ns[LATE_MAX];
 static int migrate_every, moves[LATE_MAX][2];
 static long nmoves;
+/* fault mode: the pages userfaultfd holds, the faults and futex waits made */
+#define FAULT_PAGES	256
+static int fault_every, uffd = -1, devnull = -1, futex_word, resolver_stop;
+static char *fault_area, *fault_src;
+static long page_size, faults, futex_waits;
 
 static int64_t now_ns(void)
 {
@@ -123,7 +142,31 @@ static void move_self(int *from_to)
 struct rt_args {
 	int64_t period, work;
 	int use_lock;
+	int64_t hold;	/* fault mode: the futex wait's length */
 };
+
+/*
+ * block_in_fault_or_futex - fault mode, once a cycle: every fault_every-th
+ * cycle a write that returns, then a touch of a page that only why-uffd
+ * fills; fault_every / 2 cycles later a futex wait of 'hold' that times out
+ */
+static void block_in_fault_or_futex(int64_t hold)
+{
+	long c = cycles % fault_every;
+
+	if (c == fault_every - 1 && faults < FAULT_PAGES) {
+		(void)!write(devnull, "x", 1);
+		*(volatile char *)(fault_area + faults * page_size) = 1;
+		faults++;
+	} else if (c == fault_every / 2 - 1) {
+		struct timespec ts = { hold / 1000000000LL, hold % 1000000000LL };
+
+		/* nobody wakes it: a wait that slept its whole length */
+		if (syscall(SYS_futex, &futex_word, FUTEX_WAIT_PRIVATE, 0, &ts, NULL, 0) &&
+		    errno == ETIMEDOUT)
+			futex_waits++;
+	}
+}
 
 /* periodic - why-rt: work, then sleep to the next absolute release */
 static void *periodic(void *p)
@@ -157,6 +200,8 @@ static void *periodic(void *p)
 		burn_until(now_ns() + a->work);
 		if (a->use_lock)
 			pthread_mutex_unlock(&lock);
+		if (fault_every)
+			block_in_fault_or_futex(a->hold);
 		next += a->period;
 		cycles++;
 		/* as the tracer judges: the next release is past at the sleep */
@@ -201,9 +246,69 @@ static void *other(void *p)
 	return NULL;
 }
 
+/* resolver - why-uffd: fills each page why-rt touches, 'burn' after it read the fault */
+static void *resolver(void *p)
+{
+	const struct other_args *a = p;
+	struct pollfd pfd = { .events = POLLIN };
+	struct uffd_msg m;
+	int64_t t0;
+
+	rt_self(a->name, a->prio);
+	other_tid = gettid();
+	pfd.fd = uffd;
+	while (!__atomic_load_n(&resolver_stop, __ATOMIC_ACQUIRE)) {
+		if (poll(&pfd, 1, 100) <= 0 || read(uffd, &m, sizeof(m)) != sizeof(m) ||
+		    m.event != UFFD_EVENT_PAGEFAULT)
+			continue;
+		t0 = now_ns();
+		sleep_until(t0 + a->burn);
+		struct uffdio_copy cp = {
+			.dst = m.arg.pagefault.address & ~(page_size - 1),
+			.src = (unsigned long)fault_src, .len = page_size,
+		};
+		if (ioctl(uffd, UFFDIO_COPY, &cp))
+			die("UFFDIO_COPY");
+		if (now_ns() - t0 > burst_max)
+			burst_max = now_ns() - t0;
+		bursts++;
+	}
+	return NULL;
+}
+
+/* fault_setup - pages that fault into why-uffd: unlocked, empty, registered */
+static void fault_setup(void)
+{
+	size_t len;
+
+	page_size = sysconf(_SC_PAGESIZE);
+	len = FAULT_PAGES * page_size;
+	devnull = open("/dev/null", O_WRONLY | O_CLOEXEC);
+	uffd = syscall(SYS_userfaultfd, O_CLOEXEC | O_NONBLOCK);
+	if (devnull < 0 || uffd < 0)
+		die("userfaultfd");
+	struct uffdio_api api = { .api = UFFD_API };
+	if (ioctl(uffd, UFFDIO_API, &api))
+		die("UFFDIO_API");
+	fault_src = mmap(NULL, page_size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS,
+			 -1, 0);
+	fault_area = mmap(NULL, len, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+	if (fault_src == MAP_FAILED || fault_area == MAP_FAILED)
+		die("mmap");
+	/* mlockall's MCL_FUTURE filled them: unlock and empty them again */
+	if (munlock(fault_area, len) || madvise(fault_area, len, MADV_DONTNEED))
+		die("munlock");
+	struct uffdio_register reg = {
+		.range = { .start = (unsigned long)fault_area, .len = len },
+		.mode = UFFDIO_REGISTER_MODE_MISSING,
+	};
+	if (ioctl(uffd, UFFDIO_REGISTER, &reg))
+		die("UFFDIO_REGISTER");
+}
+
 int main(int argc, char **argv)
 {
-	struct rt_args ra = { 1 * MS, 100000, 0 };
+	struct rt_args ra = { 1 * MS, 100000, 0, 0 };
 	struct other_args oa = { "why-hog", 60, 100 * MS, 3 * MS, 0 };
 	pthread_mutexattr_t ma;
 	pthread_t a, b;
@@ -213,7 +318,7 @@ int main(int argc, char **argv)
 	int alone;
 
 	if (argc != 4 && argc != 5) {
-		fprintf(stderr, "usage: why_late hog|mutex|pi|preempt|alone|machine|migrate CPU SECONDS [SCALE]\n");
+		fprintf(stderr, "usage: why_late hog|mutex|pi|preempt|alone|machine|migrate|fault CPU SECONDS [SCALE]\n");
 		return 1;
 	}
 	mode = argv[1];
@@ -228,13 +333,18 @@ int main(int argc, char **argv)
 		ra.use_lock = 1;
 		oa = (struct other_args){ "why-owner", 10, 50 * MS, 2 * MS, 1 };
 	} else if (!strcmp(mode, "preempt")) {
-		ra = (struct rt_args){ 5 * MS, 3 * MS, 0 };
+		ra = (struct rt_args){ 5 * MS, 3 * MS, 0, 0 };
 		oa = (struct other_args){ "why-preemptor", 70, 50 * MS, 4 * MS, 0 };
 	} else if (!strcmp(mode, "migrate")) {
-		ra = (struct rt_args){ 20 * MS, 200000, 0 };
+		ra = (struct rt_args){ 20 * MS, 200000, 0, 0 };
 		migrate_every = 10;
 	} else if (!strcmp(mode, "machine")) {
-		ra = (struct rt_args){ 20 * MS, 100000, 0 };
+		ra = (struct rt_args){ 20 * MS, 100000, 0, 0 };
+	} else if (!strcmp(mode, "fault")) {
+		ra.hold = 2 * MS;
+		oa = (struct other_args){ "why-uffd", 10, 0, 2 * MS, 0 };
+		fault_every = 100;
+		fault_setup();
 	} else if (strcmp(mode, "hog") && strcmp(mode, "alone")) {
 		fprintf(stderr, "why_late: %s: unknown mode\n", mode);
 		return 1;
@@ -245,6 +355,7 @@ int main(int argc, char **argv)
 		ra.work *= atoi(argv[4]);
 		oa.every *= atoi(argv[4]);
 		oa.burn *= atoi(argv[4]);
+		ra.hold *= atoi(argv[4]);
 	}
 	pthread_mutex_init(&lock, &ma);
 	srand(1);
@@ -257,9 +368,10 @@ int main(int argc, char **argv)
 	if (pthread_create(&a, &attr, periodic, &ra))
 		die("pthread_create");
 	alone = !strcmp(mode, "alone") || !strcmp(mode, "machine") || migrate_every;
-	if (!alone && pthread_create(&b, &attr, other, &oa))
+	if (!alone && pthread_create(&b, &attr, fault_every ? resolver : other, &oa))
 		die("pthread_create");
 	pthread_join(a, NULL);
+	__atomic_store_n(&resolver_stop, 1, __ATOMIC_RELEASE);
 	if (!alone)
 		pthread_join(b, NULL);
 	printf("{\"pid\": %d, \"rt_tid\": %d, \"other_tid\": %d, \"other\": \"%s\", \"prio\": %d, "
@@ -268,7 +380,7 @@ int main(int argc, char **argv)
 	printf("\"slept_misses\": %ld, \"backlogs\": %ld, \"late_ns\": [", slept_misses, backlogs);
 	for (long i = 0; i < nlate; i++)
 		printf("%s%lld", i ? ", " : "", (long long)late_ns[i]);
-	printf("], \"moves\": [");
+	printf("], \"faults\": %ld, \"futex_waits\": %ld, \"moves\": [", faults, futex_waits);
 	for (long i = 0; i < nmoves; i++)
 		printf("%s[%d, %d]", i ? ", " : "", moves[i][0], moves[i][1]);
 	printf("]}\n");

@@ -484,6 +484,22 @@ static void test_cause_slots_keep_each_wait(void **state)
 	assert_int_equal(why_pick(s, 9, 1 * MS + WHY_STALE_NS + 1), 0);
 }
 
+/* only a wait inside a running cycle, outside the delimiter, is a block */
+static void test_cause_is_block(void **state)
+{
+	struct rtsup_cycle_state cs = { .start = 1 * MS };
+
+	(void)state;
+	assert_true(why_is_block(&cs, 2 * MS, 1));
+	assert_false(why_is_block(&cs, 2 * MS, 0));	/* preempted */
+	assert_false(why_is_block(&cs, 0, 1));		/* no clock read: not timed */
+	cs.in_delim = 1;
+	assert_false(why_is_block(&cs, 2 * MS, 1));	/* its delimiter's sleep */
+	cs.in_delim = 0;
+	cs.start = 0;
+	assert_false(why_is_block(&cs, 2 * MS, 1));	/* no cycle running */
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -499,6 +515,7 @@ int main(void)
 		cmocka_unit_test(test_cause_exec_only_when_it_does_not_fit),
 		cmocka_unit_test(test_cause_steal_is_the_machines),
 		cmocka_unit_test(test_cause_slots_keep_each_wait),
+		cmocka_unit_test(test_cause_is_block),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -12,6 +12,7 @@
 
 #include "model/causes.h"
 #include "model/model.h"
+#include "model/syscalls.h"
 
 #define MS 1000000ULL
 
@@ -174,6 +175,26 @@ static void test_causes_backlog_after_the_machine(void **state)
 	causes_free(&cs);
 }
 
+/* the syscall an unsafe event names: made, or waited in by a block (+ 1), or none */
+static void test_unsafe_event_syscall(void **state)
+{
+	struct rtsup_event e = { .type = RTSUP_EV_UNSAFE, .arg = RTSUP_U_SYSCALL };
+
+	(void)state;
+	e.arg2 = syscall_nr("mmap");
+	assert_string_equal(unsafe_event_syscall(&e), "mmap");
+	e.arg = RTSUP_U_BLOCK;
+	e.arg2 = syscall_nr("futex") + 1;
+	assert_string_equal(unsafe_event_syscall(&e), "futex");
+	e.arg2 = 0;	/* a page fault's, or not known */
+	assert_null(unsafe_event_syscall(&e));
+	e.arg = RTSUP_U_MINFLT;
+	e.arg2 = 3;	/* a count, no syscall */
+	assert_null(unsafe_event_syscall(&e));
+	e.type = RTSUP_EV_MISS;
+	assert_null(unsafe_event_syscall(&e));
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -181,6 +202,7 @@ int main(void)
 		cmocka_unit_test(test_causes_text),
 		cmocka_unit_test(test_causes_to_model),
 		cmocka_unit_test(test_causes_backlog_after_the_machine),
+		cmocka_unit_test(test_unsafe_event_syscall),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -121,6 +121,31 @@ static void test_eventlog_misses_fold_per_cause_kind(void **state)
 	eventlog_free(&l);
 }
 
+/* blocks fold per syscall they wait in: a flood of futex waits keeps the page fault's */
+static void test_eventlog_blocks_fold_per_syscall(void **state)
+{
+	struct eventlog l = { 0 };
+	size_t i, faults = 0;
+	int k;
+
+	(void)state;
+	for (k = 0; k < 100; k++) {
+		/* arg2: the syscall + 1 (202: futex), 0 none: a page fault */
+		struct rtsup_event e = ev(k + 1, RTSUP_EV_UNSAFE, 4, RTSUP_U_BLOCK, k == 50 ? 0 : 203);
+
+		eventlog_add(&l, &e);
+	}
+	eventlog_finish(&l);
+	for (i = 0; i < l.n; i++)
+		faults += l.ev[i].arg == RTSUP_U_BLOCK && l.ev[i].arg2 == 0;
+	assert_int_equal(faults, 1);
+	assert_int_equal(l.n, 2 * EVENTLOG_KEEP + 1);
+	assert_int_equal(l.nflood, 1);
+	assert_int_equal(l.fold[0].kind, ((__u64)RTSUP_U_BLOCK << 32) | 203);
+	assert_int_equal(l.fold[0].folded, 99 - 2 * EVENTLOG_KEEP);
+	eventlog_free(&l);
+}
+
 /* a few events of a kind are all kept; nothing folded, no flood listed */
 static void test_eventlog_small_floods_kept_whole(void **state)
 {
@@ -187,6 +212,7 @@ int main(void)
 		cmocka_unit_test(test_eventlog_exit_survives_10000_misses),
 		cmocka_unit_test(test_eventlog_floods_by_thread_and_kind),
 		cmocka_unit_test(test_eventlog_misses_fold_per_cause_kind),
+		cmocka_unit_test(test_eventlog_blocks_fold_per_syscall),
 		cmocka_unit_test(test_eventlog_small_floods_kept_whole),
 		cmocka_unit_test(test_eventlog_clear_and_grow),
 		cmocka_unit_test(test_eventlog_never_folded_table),
