@@ -289,3 +289,18 @@ def fdinfo_values(pid, key):
 def prog_ids(pid):
     """The ids of the BPF programs a process holds"""
     return set(fdinfo_values(pid, "prog_id"))
+
+
+def block_events(intervals, tid):
+    """A thread's blocks as its block events say them, by the syscall each
+    waits in (None: none, a page fault): every one, those folded in floods
+    too (a flood keeps its first and last events and counts the rest)."""
+    by = {}
+    for i in intervals:
+        for e in i["events"]:
+            if e["event"] == "unsafe" and e["reason"] == "block" and e["tid"] == tid:
+                by[e["syscall"]] = by.get(e["syscall"], 0) + 1
+        for f in i["events_folded"]:
+            if f["event"] == "unsafe" and f["reason"] == "block" and f["tid"] == tid:
+                by[f["syscall"]] = by.get(f["syscall"], 0) + f["folded"]
+    return by

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import BUILD, EMULATED, NOISE, Trace
+from conftest import BUILD, EMULATED, NOISE, Trace, block_events
 
 WHY_LATE = BUILD / "progs" / "why_late"
 # the last CPU: the tests' own Python and rtsup-trace mostly run elsewhere
@@ -200,21 +200,6 @@ def test_priority_inversion_on_plain_mutex(bpf, mode):
         # FUTEX_WAIT (0) or FUTEX_WAIT_BITSET (9) for glibc's plain mutex; FUTEX_LOCK_PI (6)
         assert b["futex_op"] in ((0, 9) if mode == "mutex" else (6,)), e
         assert b["inversion"] == (mode == "mutex"), e
-
-
-def block_events(intervals, tid):
-    """A thread's blocks as its block events say them, by the syscall each
-    waits in (None: none, a page fault): every one, those folded in floods
-    too (a flood keeps its first and last events and counts the rest)."""
-    by = {}
-    for i in intervals:
-        for e in i["events"]:
-            if e["event"] == "unsafe" and e["reason"] == "block" and e["tid"] == tid:
-                by[e["syscall"]] = by.get(e["syscall"], 0) + 1
-        for f in i["events_folded"]:
-            if f["event"] == "unsafe" and f["reason"] == "block" and f["tid"] == tid:
-                by[f["syscall"]] = by.get(f["syscall"], 0) + f["folded"]
-    return by
 
 
 @host_only
