@@ -9,8 +9,8 @@ import time
 
 import pytest
 
-from conftest import (EMULATED, LOADGEN, PERIOD_US, TRACE, Loadgen, Trace, block_events, prog_ids,
-                      run_supervised, threads_by_tid, unique_prefix)
+from conftest import (EMULATED, LOADGEN, PERIOD_US, TRACE, Loadgen, Trace, block_events,
+                      fdinfo_values, prog_ids, run_supervised, threads_by_tid, unique_prefix)
 
 pytestmark = pytest.mark.usefixtures("bpf")
 
