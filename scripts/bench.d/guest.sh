@@ -3,13 +3,16 @@
 # (scripts/vm-test; this machine's kernel has no CAN): a cangen -g 0 flood
 # and cyclictest, each without rtsup-trace, with it as shipped, with
 # --no-overhead (no BPF statistics) and with the floor (empty programs on
-# the same hooks), interleaved, REPS times.
+# the same hooks), interleaved, REPS times. Then perf bench syscall basic
+# (getppid, a syscall no per-syscall hook is on, by a thread that is no
+# target) with the syscall hooks on raw_syscalls and per syscall, each
+# with our programs and with the floor's: the host refuses fentry.
 # One JSON object per measurement on stdout; rtsup-trace's own output goes
 # to OUT (a directory under build/, which the guest shares with the host).
 #
-#   sh scripts/bench.d/guest.sh OUT REPS FRAMES LOOPS
+#   sh scripts/bench.d/guest.sh OUT REPS FRAMES LOOPS [CALLS]
 set -u
-OUT=$1 REPS=$2 FRAMES=$3 LOOPS=$4
+OUT=$1 REPS=$2 FRAMES=$3 LOOPS=$4 CALLS=${5:-1000000}
 T=build/rtsup-trace
 TP=
 
@@ -90,5 +93,45 @@ for r in $(seq "$REPS"); do
 		rc=$?
 		[ "$v" != base ] && stop_trace
 		echo "{\"part\": \"cyclictest\", \"variant\": \"$v\", \"rep\": $r, \"loops\": $LOOPS, \"rc\": $rc, \"tag\": \"$tag\"}"
+	done
+done
+
+# the syscall hooks: variants in a rotating order, rtsup-trace --no-overhead
+# on raw_syscalls and per syscall, and the floor of each
+sys_order() {
+	r=$1
+	set -- base raw per rawfloor perfloor
+	i=0
+	while [ $i -lt $((r % 5)) ]; do
+		set -- "$2" "$3" "$4" "$5" "$1"
+		i=$((i + 1))
+	done
+	echo "$@"
+}
+
+sys_args() {
+	case $1 in
+	raw) echo "--no-overhead --syscall-hooks raw" ;;
+	per) echo "--no-overhead --syscall-hooks per-syscall" ;;
+	rawfloor) echo "--floor --no-overhead --syscall-hooks raw" ;;
+	perfloor) echo "--floor --no-overhead --syscall-hooks per-syscall" ;;
+	esac
+}
+
+perf bench syscall basic -l 10000 > /dev/null 2>&1
+for r in $(seq "$REPS"); do
+	for v in $(sys_order "$r"); do
+		tag=sys-$v-$r
+		if [ "$v" != base ]; then
+			# a target that makes no syscall here (init): the workload is none
+			# shellcheck disable=SC2046
+			start_trace "$tag" -p 1 -i 1s $(sys_args "$v") || continue
+		fi
+		a=$(now)
+		perf bench syscall basic -l "$CALLS" > /dev/null 2>&1
+		rc=$?
+		b=$(now)
+		[ "$v" != base ] && stop_trace
+		echo "{\"part\": \"syscall\", \"variant\": \"$v\", \"rep\": $r, \"calls\": $CALLS, \"ns\": $((b - a)), \"rc\": $rc, \"tag\": \"$tag\"}"
 	done
 done

@@ -34,6 +34,27 @@ MAIN = ["floor", "rtsup", "floor_nostats", "rtsup_nostats"]
 GUEST_LABEL = {"base": "without", "rtsup": "rtsup-trace as shipped",
                "nostats": "rtsup-trace --no-overhead",
                "floor": "floor: empty programs, --no-overhead"}
+# the guest's getppid runs (guest.sh): the syscall hooks, ours and the floor's
+GUEST_SYS_LABEL = {"raw": "rtsup-trace --no-overhead on raw_syscalls",
+                   "per": "rtsup-trace --no-overhead, per-syscall hooks",
+                   "rawfloor": "floor on raw_syscalls", "perfloor": "floor, per-syscall hooks"}
+GUEST_SYS_HOOKS = {"raw": "raw_syscalls", "rawfloor": "raw_syscalls", "per": "per-syscall",
+                   "perfloor": "per-syscall"}
+
+
+def sys_slowdown(g, v):
+    """The guest's getppid runs of variant v against the same round's run
+    without rtsup-trace: time ratio - 1, per round. A run whose hooks were
+    not the variant's (a fallback) is left out."""
+    runs = [x for x in g.get("syscall", []) if x["rc"] == 0]
+    out = []
+    for x in runs:
+        if x["variant"] != v or x.get("hooks") != GUEST_SYS_HOOKS[v]:
+            continue
+        b = [y for y in runs if y["variant"] == "base" and y["rep"] == x["rep"]]
+        if b and b[0]["ns"] > 0:
+            out.append(x["ns"] / b[0]["ns"] - 1)
+    return out
 
 
 def med(xs):
@@ -520,6 +541,16 @@ def render(r, res, made):
                   "of %d paired rounds; range %.1f to %.1f %%) | %s |"
                   % (GUEST_LABEL[v], (1 - med(ratio)) * 100, len(ratio), (1 - max(ratio)) * 100,
                      (1 - min(ratio)) * 100, yes((1 - med(ratio)) * 100 <= T_CAN_PCT)))
+    for v in ("per", "perfloor", "raw", "rawfloor"):
+        d = sys_slowdown(g, v)
+        if not d:
+            continue
+        what = ("| syscall basic in the guest (getppid by a thread that is no target, no hook "
+                "on it): %s slows it ≤ %.0f %% | %.1f %% (median of %d paired rounds; range "
+                "%.1f to %.1f %%) |" % (GUEST_SYS_LABEL[v], T_SYSCALL_PCT, med(d) * 100, len(d),
+                                        min(d) * 100, max(d) * 100))
+        # the target is the per-syscall hooks'; raw_syscalls' are shown beside
+        a("%s %s |" % (what, yes(med(d) * 100 <= T_SYSCALL_PCT) if v == "per" else "shown beside"))
     us = res.get("userspace", [])
     for mode in ("table", "json", "prom"):
         uu = [u for u in us if u.get("output", "json") == mode]
@@ -723,6 +754,34 @@ def render(r, res, made):
                     if rel:
                         a("- average latency, %s / without, paired by round: median %.2f "
                           "(range %.2f to %.2f)" % (GUEST_LABEL[v], med(rel), min(rel), max(rel)))
+                a("")
+
+            sy = g.get("syscall", [])
+            if sy:
+                a("`perf bench syscall basic -l %d` (getppid: no per-syscall hook is on it) by a "
+                  "thread that is no target, while `rtsup-trace -p 1 --no-overhead` runs with "
+                  "its syscall hooks on `raw_syscalls` or per syscall (`--syscall-hooks`), "
+                  "and the floor of each (empty programs on the same hooks), a different one "
+                  "first each round. Seconds per run; in brackets the ratio to the same "
+                  "round's run without rtsup-trace:" % res["args"].get("calls", 1000000))
+                a("")
+                vs = ("raw", "per", "rawfloor", "perfloor")
+                a("| round | without | %s |" % " | ".join(GUEST_SYS_LABEL[v] for v in vs))
+                a("|---:|---:|" + "---:|" * len(vs))
+                for rnd in sorted({x["rep"] for x in sy}):
+                    b = [x for x in sy if x["rep"] == rnd and x["variant"] == "base"]
+                    row = [fmt(b[0]["ns"] / 1e9 if b else None, "%.2f")]
+                    for v in vs:
+                        x = [y for y in sy if y["rep"] == rnd and y["variant"] == v]
+                        if not x:
+                            row.append("-")
+                            continue
+                        row.append("%s (%s)%s" % (
+                            fmt(x[0]["ns"] / 1e9, "%.2f"),
+                            fmt(x[0]["ns"] / b[0]["ns"] if b else None, "%.3f"),
+                            "" if x[0].get("hooks") == GUEST_SYS_HOOKS[v] else
+                            " ran with %s" % x[0].get("hooks")))
+                    a("| %d | %s |" % (rnd, " | ".join(row)))
                 a("")
 
     # ------------------------------------------------------------ not run
