@@ -289,6 +289,7 @@ static json_t *json_thread(const struct collector *c, const struct supervisor *s
 /* json_event - one rare event */
 static json_t *json_event(const struct collector *c, const struct rtsup_event *e)
 {
+	const char *sys = unsafe_event_syscall(e);
 	char when[40];
 	json_t *o;
 
@@ -304,11 +305,10 @@ static json_t *json_event(const struct collector *c, const struct rtsup_event *e
 		break;
 	case RTSUP_EV_UNSAFE:
 		json_object_set_new(o, "reason", json_string(unsafe_reason_name(e->arg)));
-		if (e->arg == RTSUP_U_SYSCALL && syscall_name(e->arg2))
-			json_object_set_new(o, "syscall", json_string(syscall_name(e->arg2)));
+		if (e->arg == RTSUP_U_SYSCALL && sys)
+			json_object_set_new(o, "syscall", json_string(sys));
 		else if (e->arg == RTSUP_U_BLOCK)	/* null: a page fault, or unknown */
-			json_object_set_new(o, "syscall", unsafe_event_syscall(e) ?
-					    json_string(unsafe_event_syscall(e)) : json_null());
+			json_object_set_new(o, "syscall", sys ? json_string(sys) : json_null());
 		else if (e->arg == RTSUP_U_MINFLT || e->arg == RTSUP_U_MAJFLT)
 			json_object_set_new(o, "count", json_integer(e->arg2));
 		else if (e->arg == RTSUP_U_MIGRATE)

@@ -325,6 +325,7 @@ static void wake_flow(struct perfetto *p, const struct rtsup_event *e)
 
 void perfetto_event(struct perfetto *p, const struct rtsup_event *e)
 {
+	const char *sys = unsafe_event_syscall(e);
 	char ts[32], prefix[64], name[64], why[200];
 	json_t *a;
 
@@ -353,8 +354,8 @@ void perfetto_event(struct perfetto *p, const struct rtsup_event *e)
 			 e->arg < RTSUP_U_NR ? unsafe_names[e->arg] : "unknown");
 		if (e->arg == RTSUP_U_SYSCALL)
 			json_object_set_new(a, "nr", json_integer((json_int_t)e->arg2));
-		else if (e->arg == RTSUP_U_BLOCK && unsafe_event_syscall(e))
-			json_object_set_new(a, "syscall", json_string(unsafe_event_syscall(e)));
+		else if (e->arg == RTSUP_U_BLOCK && sys)
+			json_object_set_new(a, "syscall", json_string(sys));
 		else if (e->arg == RTSUP_U_MINFLT || e->arg == RTSUP_U_MAJFLT)
 			json_object_set_new(a, "count", json_integer((json_int_t)e->arg2));
 		else if (e->arg == RTSUP_U_MIGRATE) {
