@@ -1069,6 +1069,103 @@ __noinline int delim_cycle(struct rtsup_thread *t, const struct delim_in *in,
 				 in->minflt, in->majflt, c);
 }
 
+/*
+ * delim_of - is syscall nr (class cls, args in regs) the thread's delimiter?
+ * Then *expected and *absolute are its requested release (sleep_release).
+ */
+static __always_inline int delim_of(struct rtsup_thread *t, const struct rtsup_thread_cfg *tc,
+				    struct pt_regs *regs, __u32 nr, __u32 cls, __u64 now,
+				    __u64 *expected, int *absolute, const int btf)
+{
+	int delim;
+
+	if (tc && tc->ndelims)
+		delim = in_list(tc->delims, tc->ndelims, RTSUP_CFG_DELIMS, nr);
+	else
+		delim = cls & RTSUP_SC_DELIM;
+	if (delim) {
+		/* the kernel's restart (below) keeps the interrupted sleep's clock */
+		*expected = sleep_release(t, regs, cls, now, absolute, btf);
+		/* a relative sleep inside an absolute loop is no boundary */
+		if (cycle_rel_sleep_in_loop(t, cls, *absolute))
+			delim = 0;
+		else if (cls & RTSUP_SC_KEYED)
+			delim = cycle_delim_key(&t->cs, wait_key(regs, nr, cls, btf));
+		else
+			t->cs.cand_key = 0;
+	} else if ((cls & RTSUP_SC_RESTART) && (t->cs.flags & RTSUP_CS_INTR)) {
+		/* the kernel resumes the interrupted sleep with its own arguments */
+		delim = 1;
+		*absolute = t->cs.abs_expected != 0;
+		*expected = *absolute ? t->cs.abs_expected : t->cs.expected;
+	}
+	return delim;
+}
+
+/* delim_enter - the thread enters its delimiter at 'now': its cycle ends */
+static __always_inline void delim_enter(struct rtsup_thread *t,
+					const struct rtsup_thread_cfg *tc,
+					struct task_struct *task, __u64 now, __u64 expected,
+					int absolute, const int btf)
+{
+	struct delim_in in = {
+		.cf = cfg(tc), .now = now, .expected = expected, .absolute = absolute,
+		.minflt = TREAD(btf, task, min_flt), .majflt = TREAD(btf, task, maj_flt),
+	};
+	__u32 zero = 0, cpu = bpf_get_smp_processor_id(), ev;
+	__u64 steal = cpu_steal(cpu);
+	struct rtsup_cycle *c;
+
+	c = bpf_map_lookup_elem(&delim_out, &zero);
+	if (!c)
+		return;	/* an array's one entry: never */
+	ev = delim_cycle(t, &in, c);
+	/* what was stolen up to here is the closing cycle's; the next starts now */
+	why_steal_out(&t->why, cpu, steal);
+	why_delim(&t->why, ev, ev & CYC_EV_CLOSED ? c->cpu : 0,
+		  ev & CYC_EV_CLOSED ? c->nominal : 0, now, expected);
+	why_steal_in(&t->why, cpu, steal);
+	note_wake(t);
+	if (ev & CYC_EV_CLOSED)
+		emit_cycle(ev, t, now, c, now - expected);
+}
+
+/*
+ * delim_entered_unseen - per-syscall hooks only: the kernel skips a stub
+ * that already runs on this CPU (docs/design.md, "Runs the kernel skips"),
+ * so a target may enter its delimiter unseen, then sleep "inside its
+ * cycle". A block in the thread's own delimiter is that entry: done here,
+ * at the block, from its saved registers (prev is current at sched_switch).
+ * 1 when it was.
+ */
+__noinline int delim_entered_unseen(struct rtsup_thread *t, __u64 now)
+{
+	struct task_struct *task = bpf_get_current_task_btf();
+	struct rtsup_thread_cfg *tc;
+	struct pt_regs *regs;
+	__u64 expected = 0;
+	int absolute = 0;
+	__u32 nr, *cls;
+	long id;
+
+	if (!t || !now || (task->flags & PF_KTHREAD) || compat_syscall(task, 1))
+		return 0;
+	regs = (struct pt_regs *)bpf_task_pt_regs(task);
+	id = SYSCALL_NR(regs);
+	if (id < 0 || id >= RTSUP_MAX_SYSCALLS)
+		return 0;
+	nr = id;
+	cls = bpf_map_lookup_elem(&sysclass, &nr);
+	if (!cls)
+		return 0;
+	tc = thread_cfg_of(t->tid);
+	if (!delim_of(t, tc, regs, nr, *cls, now, &expected, &absolute, 1))
+		return 0;
+	count(RTSUP_C_DELIM_UNSEEN);
+	delim_enter(t, tc, task, now, expected, absolute, 1);
+	return 1;
+}
+
 /* on_sys_enter - cycle delimiter or a syscall inside a cycle */
 static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int btf)
 {
@@ -1076,10 +1173,9 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 	struct rtsup_thread *t = lookup_thread(tid);
 	struct rtsup_thread_cfg *tc;
 	struct task_struct *task;
-	struct rtsup_cycle *c;
 	__u32 nr, *cls, ev;
-	__u64 now, expected;
-	int unsafe, delim, absolute = 0;
+	__u64 now, expected = 0;
+	int unsafe, absolute = 0;
 
 	if (!t || t->exited)
 		return 0;
@@ -1098,47 +1194,13 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 		t->compat_sys++;
 		return 0;
 	}
+	/* a syscall of a thread still in its delimiter: that one returned unseen */
+	if (cfg_sys_per && cycle_exit_missed(t, TREAD(btf, task, min_flt),
+					     TREAD(btf, task, maj_flt)))
+		count(RTSUP_C_DELIM_UNSEEN);
 	tc = thread_cfg_of(tid);
-	if (tc && tc->ndelims)
-		delim = in_list(tc->delims, tc->ndelims, RTSUP_CFG_DELIMS, nr);
-	else
-		delim = *cls & RTSUP_SC_DELIM;
-	if (delim) {
-		/* the kernel's restart (below) keeps the interrupted sleep's clock */
-		expected = sleep_release(t, regs, *cls, now, &absolute, btf);
-		/* a relative sleep inside an absolute loop is no boundary */
-		if (cycle_rel_sleep_in_loop(t, *cls, absolute))
-			delim = 0;
-		else if (*cls & RTSUP_SC_KEYED)
-			delim = cycle_delim_key(&t->cs, wait_key(regs, nr, *cls, btf));
-		else
-			t->cs.cand_key = 0;
-	} else if ((*cls & RTSUP_SC_RESTART) && (t->cs.flags & RTSUP_CS_INTR)) {
-		/* the kernel resumes the interrupted sleep with its own arguments */
-		delim = 1;
-		absolute = t->cs.abs_expected != 0;
-		expected = absolute ? t->cs.abs_expected : t->cs.expected;
-	}
-	if (delim) {
-		struct delim_in in = {
-			.cf = cfg(tc), .now = now, .expected = expected, .absolute = absolute,
-			.minflt = TREAD(btf, task, min_flt), .majflt = TREAD(btf, task, maj_flt),
-		};
-		__u32 zero = 0, cpu = bpf_get_smp_processor_id();
-		__u64 steal = cpu_steal(cpu);
-
-		c = bpf_map_lookup_elem(&delim_out, &zero);
-		if (!c)
-			return 0;	/* an array's one entry: never */
-		ev = delim_cycle(t, &in, c);
-		/* what was stolen up to here is the closing cycle's; the next starts now */
-		why_steal_out(&t->why, cpu, steal);
-		why_delim(&t->why, ev, ev & CYC_EV_CLOSED ? c->cpu : 0,
-			  ev & CYC_EV_CLOSED ? c->nominal : 0, now, expected);
-		why_steal_in(&t->why, cpu, steal);
-		note_wake(t);
-		if (ev & CYC_EV_CLOSED)
-			emit_cycle(ev, t, now, c, now - expected);
+	if (delim_of(t, tc, regs, nr, *cls, now, &expected, &absolute, btf)) {
+		delim_enter(t, tc, task, now, expected, absolute, btf);
 		return 0;
 	}
 	unsafe = *cls & RTSUP_SC_UNSAFE;
@@ -1480,6 +1542,9 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 	if (pt)
 		out = cycle_switch_out_path(&pt->cs, voluntary);
 	now = switch_timed(nt, hold, out) ? bpf_ktime_get_ns() : 0;
+	/* a block in its own delimiter, whose entry the kernel skipped: asleep there */
+	if (out == CYC_OUT_BLOCK && cfg_sys_per && cfg_block_sys && delim_entered_unseen(pt, now))
+		out = cycle_switch_out_path(&pt->cs, voluntary);
 	if (hold) {
 		if (!r)
 			r = held_switch_in();
