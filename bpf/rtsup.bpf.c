@@ -1102,24 +1102,19 @@ static __always_inline int delim_of(struct rtsup_thread *t, const struct rtsup_t
 	return delim;
 }
 
-/* delim_enter - the thread enters its delimiter at 'now': its cycle ends */
-static __always_inline void delim_enter(struct rtsup_thread *t,
-					const struct rtsup_thread_cfg *tc,
-					struct task_struct *task, __u64 now, __u64 expected,
-					int absolute, const int btf)
+/*
+ * delim_enter - the thread enters its delimiter (in, filled by the caller):
+ * its cycle ends, into c, the caller's per-CPU record. Each hook context
+ * has its own record: a sys_enter body runs preemptible where fentry does
+ * (sched_switch may run between its delim_cycle and its reads of c).
+ */
+static __always_inline void delim_enter(struct rtsup_thread *t, const struct delim_in *in,
+					struct rtsup_cycle *c)
 {
-	struct delim_in in = {
-		.cf = cfg(tc), .now = now, .expected = expected, .absolute = absolute,
-		.minflt = TREAD(btf, task, min_flt), .majflt = TREAD(btf, task, maj_flt),
-	};
-	__u32 zero = 0, cpu = bpf_get_smp_processor_id(), ev;
-	__u64 steal = cpu_steal(cpu);
-	struct rtsup_cycle *c;
+	__u32 cpu = bpf_get_smp_processor_id(), ev;
+	__u64 steal = cpu_steal(cpu), now = in->now, expected = in->expected;
 
-	c = bpf_map_lookup_elem(&delim_out, &zero);
-	if (!c)
-		return;	/* an array's one entry: never */
-	ev = delim_cycle(t, &in, c);
+	ev = delim_cycle(t, in, c);
 	/* what was stolen up to here is the closing cycle's; the next starts now */
 	why_steal_out(&t->why, cpu, steal);
 	why_delim(&t->why, ev, ev & CYC_EV_CLOSED ? c->cpu : 0,
@@ -1128,42 +1123,6 @@ static __always_inline void delim_enter(struct rtsup_thread *t,
 	note_wake(t);
 	if (ev & CYC_EV_CLOSED)
 		emit_cycle(ev, t, now, c, now - expected);
-}
-
-/*
- * delim_entered_unseen - per-syscall hooks only: the kernel skips a stub
- * that already runs on this CPU (docs/design.md, "Runs the kernel skips"),
- * so a target may enter its delimiter unseen, then sleep "inside its
- * cycle". A block in the thread's own delimiter is that entry: done here,
- * at the block, from its saved registers (prev is current at sched_switch).
- * 1 when it was.
- */
-__noinline int delim_entered_unseen(struct rtsup_thread *t, __u64 now)
-{
-	struct task_struct *task = bpf_get_current_task_btf();
-	struct rtsup_thread_cfg *tc;
-	struct pt_regs *regs;
-	__u64 expected = 0;
-	int absolute = 0;
-	__u32 nr, *cls;
-	long id;
-
-	if (!t || !now || (task->flags & PF_KTHREAD) || compat_syscall(task, 1))
-		return 0;
-	regs = (struct pt_regs *)bpf_task_pt_regs(task);
-	id = SYSCALL_NR(regs);
-	if (id < 0 || id >= RTSUP_MAX_SYSCALLS)
-		return 0;
-	nr = id;
-	cls = bpf_map_lookup_elem(&sysclass, &nr);
-	if (!cls)
-		return 0;
-	tc = thread_cfg_of(t->tid);
-	if (!delim_of(t, tc, regs, nr, *cls, now, &expected, &absolute, 1))
-		return 0;
-	count(RTSUP_C_DELIM_UNSEEN);
-	delim_enter(t, tc, task, now, expected, absolute, 1);
-	return 1;
 }
 
 /* on_sys_enter - cycle delimiter or a syscall inside a cycle */
@@ -1200,7 +1159,15 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 		count(RTSUP_C_DELIM_UNSEEN);
 	tc = thread_cfg_of(tid);
 	if (delim_of(t, tc, regs, nr, *cls, now, &expected, &absolute, btf)) {
-		delim_enter(t, tc, task, now, expected, absolute, btf);
+		struct delim_in in = {
+			.cf = cfg(tc), .now = now, .expected = expected, .absolute = absolute,
+			.minflt = TREAD(btf, task, min_flt), .majflt = TREAD(btf, task, maj_flt),
+		};
+		__u32 zero = 0;
+		struct rtsup_cycle *c = bpf_map_lookup_elem(&delim_out, &zero);
+
+		if (c)	/* an array's one entry: always */
+			delim_enter(t, &in, c);
 		return 0;
 	}
 	unsafe = *cls & RTSUP_SC_UNSAFE;
@@ -1371,6 +1338,65 @@ struct {
 	__type(key, __u32);
 	__type(value, struct rtsup_cycle);
 } switch_out SEC(".maps");
+
+/* a recovered delimiter entry's inputs, per CPU: for sched_switch only */
+struct {
+	__uint(type, BPF_MAP_TYPE_PERCPU_ARRAY);
+	__uint(max_entries, 1);
+	__type(key, __u32);
+	__type(value, struct delim_in);
+} switch_delim_in SEC(".maps");
+
+/*
+ * delim_entered_unseen - per-syscall hooks only: the kernel skips a stub
+ * that already runs on this CPU (docs/design.md, "Runs the kernel skips"),
+ * so a target may enter its delimiter unseen, then sleep "inside its
+ * cycle". A block in the thread's own delimiter is that entry: done here,
+ * at the block, from its saved registers (prev is current at sched_switch).
+ * 1 when it was. Its records are sched_switch's (switch_out is free until
+ * switch_out_state), off the stack: 6.1 allows 512 bytes for the deepest
+ * chain of calls, and this one is five deep.
+ */
+__noinline int delim_entered_unseen(struct rtsup_thread *t, __u64 now)
+{
+	struct task_struct *task = bpf_get_current_task_btf();
+	struct rtsup_thread_cfg *tc;
+	struct rtsup_cycle *c;
+	struct delim_in *in;
+	struct pt_regs *regs;
+	__u64 expected = 0;
+	__u32 nr, *cls, zero = 0;
+	int absolute = 0;
+	long id;
+
+	if (!t || !now || (task->flags & PF_KTHREAD) || compat_syscall(task, 1))
+		return 0;
+	regs = (struct pt_regs *)bpf_task_pt_regs(task);
+	id = SYSCALL_NR(regs);
+	if (id < 0 || id >= RTSUP_MAX_SYSCALLS)
+		return 0;
+	nr = id;
+	cls = bpf_map_lookup_elem(&sysclass, &nr);
+	if (!cls)
+		return 0;
+	tc = thread_cfg_of(t->tid);
+	if (!delim_of(t, tc, regs, nr, *cls, now, &expected, &absolute, 1))
+		return 0;
+	in = bpf_map_lookup_elem(&switch_delim_in, &zero);
+	c = bpf_map_lookup_elem(&switch_out, &zero);
+	if (!in || !c)
+		return 0;	/* arrays' one entry: never */
+	in->cf = cfg(tc);
+	in->now = now;
+	in->expected = expected;
+	in->absolute = absolute;
+	in->minflt = task->min_flt;
+	in->majflt = task->maj_flt;
+	count(RTSUP_C_DELIM_UNSEEN);
+	delim_enter(t, in, c);
+	return 1;
+}
+
 
 /*
  * switch_out_cycle - the cycle state machine as a target leaves the CPU
