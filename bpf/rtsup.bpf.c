@@ -1107,9 +1107,10 @@ static __always_inline int delim_of(struct rtsup_thread *t, const struct rtsup_t
  * its cycle ends, into c, the caller's per-CPU record. Each hook context
  * has its own record: a sys_enter body runs preemptible where fentry does
  * (sched_switch may run between its delim_cycle and its reads of c).
+ * Returns the CYC_EV_* bits; the caller emits a closed cycle (emit_cycle).
  */
-static __always_inline void delim_enter(struct rtsup_thread *t, const struct delim_in *in,
-					struct rtsup_cycle *c)
+static __always_inline __u32 delim_enter(struct rtsup_thread *t, const struct delim_in *in,
+					 struct rtsup_cycle *c)
 {
 	__u32 cpu = bpf_get_smp_processor_id(), ev;
 	__u64 steal = cpu_steal(cpu), now = in->now, expected = in->expected;
@@ -1121,8 +1122,7 @@ static __always_inline void delim_enter(struct rtsup_thread *t, const struct del
 		  ev & CYC_EV_CLOSED ? c->nominal : 0, now, expected);
 	why_steal_in(&t->why, cpu, steal);
 	note_wake(t);
-	if (ev & CYC_EV_CLOSED)
-		emit_cycle(ev, t, now, c, now - expected);
+	return ev;
 }
 
 /* on_sys_enter - cycle delimiter or a syscall inside a cycle */
@@ -1166,8 +1166,11 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 		__u32 zero = 0;
 		struct rtsup_cycle *c = bpf_map_lookup_elem(&delim_out, &zero);
 
-		if (c)	/* an array's one entry: always */
-			delim_enter(t, &in, c);
+		if (!c)
+			return 0;	/* an array's one entry: never */
+		ev = delim_enter(t, &in, c);
+		if (ev & CYC_EV_CLOSED)
+			emit_cycle(ev, t, now, c, now - expected);
 		return 0;
 	}
 	unsafe = *cls & RTSUP_SC_UNSAFE;
@@ -1353,9 +1356,11 @@ struct {
  * so a target may enter its delimiter unseen, then sleep "inside its
  * cycle". A block in the thread's own delimiter is that entry: done here,
  * at the block, from its saved registers (prev is current at sched_switch).
- * 1 when it was. Its records are sched_switch's (switch_out is free until
- * switch_out_state), off the stack: 6.1 allows 512 bytes for the deepest
- * chain of calls, and this one is five deep.
+ * Returns its CYC_EV_* bits, -1 when it was no such entry. Its records are
+ * sched_switch's, off the stack (6.1 allows 512 bytes for the deepest
+ * chain of calls, and this one is five deep): a cycle it closes waits in
+ * switch_out for switch_out_events to emit: the program walks emit_cycle
+ * once there (a second one here cost 4 900 verified instructions).
  */
 __noinline int delim_entered_unseen(struct rtsup_thread *t, __u64 now)
 {
@@ -1370,22 +1375,22 @@ __noinline int delim_entered_unseen(struct rtsup_thread *t, __u64 now)
 	long id;
 
 	if (!t || !now || (task->flags & PF_KTHREAD) || compat_syscall(task, 1))
-		return 0;
+		return -1;
 	regs = (struct pt_regs *)bpf_task_pt_regs(task);
 	id = SYSCALL_NR(regs);
 	if (id < 0 || id >= RTSUP_MAX_SYSCALLS)
-		return 0;
+		return -1;
 	nr = id;
 	cls = bpf_map_lookup_elem(&sysclass, &nr);
 	if (!cls)
-		return 0;
+		return -1;
 	tc = thread_cfg_of(t->tid);
 	if (!delim_of(t, tc, regs, nr, *cls, now, &expected, &absolute, 1))
-		return 0;
+		return -1;
 	in = bpf_map_lookup_elem(&switch_delim_in, &zero);
 	c = bpf_map_lookup_elem(&switch_out, &zero);
 	if (!in || !c)
-		return 0;	/* arrays' one entry: never */
+		return -1;	/* arrays' one entry: never */
 	in->cf = cfg(tc);
 	in->now = now;
 	in->expected = expected;
@@ -1393,8 +1398,7 @@ __noinline int delim_entered_unseen(struct rtsup_thread *t, __u64 now)
 	in->minflt = task->min_flt;
 	in->majflt = task->maj_flt;
 	count(RTSUP_C_DELIM_UNSEEN);
-	delim_enter(t, in, c);
-	return 1;
+	return delim_enter(t, in, c);
 }
 
 
@@ -1459,6 +1463,7 @@ struct switch_out_side_in {
 	__u32 prev_tid, path, voluntary, state;
 	__u32 cpu, pad;		/* this CPU, as on_switch read it */
 	__s32 policy, prio;	/* read when preempted (not voluntary) only */
+	__u64 lateness;		/* of a delimiter entry recovered here (delim_entered_unseen) */
 };
 
 /*
@@ -1526,7 +1531,7 @@ __noinline int switch_out_events(struct rtsup_thread *pt, const struct switch_ou
 	/* the cycle switch_out_state closed: this CPU's record of it */
 	c = bpf_map_lookup_elem(&switch_out, &zero);
 	if (c)
-		emit_cycle(ev, pt, in->now, c, 0);
+		emit_cycle(ev, pt, in->now, c, in->lateness);
 	return 0;
 }
 
@@ -1538,7 +1543,7 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 	struct rtsup_thread *pt, *nt;
 	struct cycle_switch_rec *r = NULL;
 	enum cycle_out_path out = CYC_OUT_IDLE;
-	int voluntary, hold = 0;
+	int voluntary, hold = 0, unseen = -1;
 	__u32 ev, state = 0, cpu = bpf_get_smp_processor_id();
 	struct why_slot *ws = why_slot_of(cpu);
 	__u64 now;
@@ -1569,8 +1574,11 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 		out = cycle_switch_out_path(&pt->cs, voluntary);
 	now = switch_timed(nt, hold, out) ? bpf_ktime_get_ns() : 0;
 	/* a block in its own delimiter, whose entry the kernel skipped: asleep there */
-	if (out == CYC_OUT_BLOCK && cfg_sys_per && cfg_block_sys && delim_entered_unseen(pt, now))
-		out = cycle_switch_out_path(&pt->cs, voluntary);
+	if (out == CYC_OUT_BLOCK && cfg_sys_per && cfg_block_sys) {
+		unseen = delim_entered_unseen(pt, now);
+		if (unseen >= 0)
+			out = cycle_switch_out_path(&pt->cs, voluntary);
+	}
 	if (hold) {
 		if (!r)
 			r = held_switch_in();
@@ -1592,6 +1600,11 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 			in.prio = why_rt(in.policy) ? (__s32)TREAD(btf, prev, rt_priority) : 0;
 		}
 		ev = switch_out_state(pt, &in);
+		/* a cycle the recovered entry closed (asleep, the switch-out closes none) */
+		if (unseen > 0 && (unseen & CYC_EV_CLOSED)) {
+			ev |= unseen;
+			in.lateness = now - pt->cs.expected;
+		}
 		switch_out_events(pt, &in, ev);
 	}
 	if (nt) {
