@@ -1043,8 +1043,12 @@ struct delim_in {
  * The cycle a delimiter closed, per CPU, from delim_cycle to its caller: a
  * map value, whose contents the verifier never assumes (a stack object
  * written by a global function may keep what it held before the call, in
- * the verifier's view). Only the sys_enter programs use it, and the kernel
- * never runs one program twice at once on a CPU.
+ * the verifier's view). Only the sys_enter programs use it. On
+ * raw_syscalls the kernel never runs one twice at once on a CPU; the
+ * per-syscall bodies run preemptible, from many stubs, so a target
+ * preempted between delim_cycle and its reads here by another target that
+ * enters a delimiter on another syscall, on this CPU, would read that one's
+ * cycle. Not seen, not mended (docs/design.md, "Runs the kernel skips").
  */
 struct {
 	__uint(type, BPF_MAP_TYPE_PERCPU_ARRAY);
