@@ -1405,7 +1405,6 @@ __noinline int delim_entered_unseen(struct rtsup_thread *t, __u64 now)
 	return delim_enter(t, in, c);
 }
 
-
 /*
  * switch_out_cycle - the cycle state machine as a target leaves the CPU
  * (cycle.h); global for the reason delim_cycle is (96 666 instructions
