@@ -1106,32 +1106,6 @@ static __always_inline int delim_of(struct rtsup_thread *t, const struct rtsup_t
 	return delim;
 }
 
-/*
- * delim_enter - the thread enters its delimiter (in, filled by the caller):
- * its cycle ends, into c, the caller's per-CPU record. Each hook context
- * has its own record: a sys_enter body runs preemptible where fentry does
- * (sched_switch may run between its delim_cycle and its reads of c).
- * Returns the CYC_EV_* bits; the caller emits a closed cycle (emit_cycle).
- * on_sys_enter keeps its own copy of these lines: calling this, clang's
- * code for sys_enter took more stack, over 6.1's 512 bytes for its
- * deepest chain of calls (5 frames, 544 bytes: the load fails).
- */
-static __always_inline __u32 delim_enter(struct rtsup_thread *t, const struct delim_in *in,
-					 struct rtsup_cycle *c)
-{
-	__u32 cpu = bpf_get_smp_processor_id(), ev;
-	__u64 steal = cpu_steal(cpu), now = in->now, expected = in->expected;
-
-	ev = delim_cycle(t, in, c);
-	/* what was stolen up to here is the closing cycle's; the next starts now */
-	why_steal_out(&t->why, cpu, steal);
-	why_delim(&t->why, ev, ev & CYC_EV_CLOSED ? c->cpu : 0,
-		  ev & CYC_EV_CLOSED ? c->nominal : 0, now, expected);
-	why_steal_in(&t->why, cpu, steal);
-	note_wake(t);
-	return ev;
-}
-
 /* on_sys_enter - cycle delimiter or a syscall inside a cycle */
 static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int btf)
 {
@@ -1356,65 +1330,6 @@ struct {
 	__type(value, struct rtsup_cycle);
 } switch_out SEC(".maps");
 
-/* a recovered delimiter entry's inputs, per CPU: for sched_switch only */
-struct {
-	__uint(type, BPF_MAP_TYPE_PERCPU_ARRAY);
-	__uint(max_entries, 1);
-	__type(key, __u32);
-	__type(value, struct delim_in);
-} switch_delim_in SEC(".maps");
-
-/*
- * delim_entered_unseen - per-syscall hooks only: the kernel skips a stub
- * that already runs on this CPU (docs/design.md, "Runs the kernel skips"),
- * so a target may enter its delimiter unseen, then sleep "inside its
- * cycle". A block in the thread's own delimiter is that entry: done here,
- * at the block, from its saved registers (prev is current at sched_switch).
- * Returns its CYC_EV_* bits, -1 when it was no such entry. Its records are
- * sched_switch's, off the stack (6.1 allows 512 bytes for the deepest
- * chain of calls, and this one is five deep): a cycle it closes waits in
- * switch_out for switch_out_events to emit: the program walks emit_cycle
- * once there (a second one here cost 4 900 verified instructions).
- */
-__noinline int delim_entered_unseen(struct rtsup_thread *t, __u64 now)
-{
-	struct task_struct *task = bpf_get_current_task_btf();
-	struct rtsup_thread_cfg *tc;
-	struct rtsup_cycle *c;
-	struct delim_in *in;
-	struct pt_regs *regs;
-	__u64 expected = 0;
-	__u32 nr, *cls, zero = 0;
-	int absolute = 0;
-	long id;
-
-	if (!t || !now || (task->flags & PF_KTHREAD) || compat_syscall(task, 1))
-		return -1;
-	regs = (struct pt_regs *)bpf_task_pt_regs(task);
-	id = SYSCALL_NR(regs);
-	if (id < 0 || id >= RTSUP_MAX_SYSCALLS)
-		return -1;
-	nr = id;
-	cls = bpf_map_lookup_elem(&sysclass, &nr);
-	if (!cls)
-		return -1;
-	tc = thread_cfg_of(t->tid);
-	if (!delim_of(t, tc, regs, nr, *cls, now, &expected, &absolute, 1))
-		return -1;
-	in = bpf_map_lookup_elem(&switch_delim_in, &zero);
-	c = bpf_map_lookup_elem(&switch_out, &zero);
-	if (!in || !c)
-		return -1;	/* arrays' one entry: never */
-	in->cf = cfg(tc);
-	in->now = now;
-	in->expected = expected;
-	in->absolute = absolute;
-	in->minflt = task->min_flt;
-	in->majflt = task->maj_flt;
-	count(RTSUP_C_DELIM_UNSEEN);
-	return delim_enter(t, in, c);
-}
-
 /*
  * switch_out_cycle - the cycle state machine as a target leaves the CPU
  * (cycle.h); global for the reason delim_cycle is (96 666 instructions
@@ -1476,7 +1391,6 @@ struct switch_out_side_in {
 	__u32 prev_tid, path, voluntary, state;
 	__u32 cpu, pad;		/* this CPU, as on_switch read it */
 	__s32 policy, prio;	/* read when preempted (not voluntary) only */
-	__u64 lateness;		/* of a delimiter entry recovered here (delim_entered_unseen) */
 };
 
 /*
@@ -1544,7 +1458,7 @@ __noinline int switch_out_events(struct rtsup_thread *pt, const struct switch_ou
 	/* the cycle switch_out_state closed: this CPU's record of it */
 	c = bpf_map_lookup_elem(&switch_out, &zero);
 	if (c)
-		emit_cycle(ev, pt, in->now, c, in->lateness);
+		emit_cycle(ev, pt, in->now, c, 0);
 	return 0;
 }
 
@@ -1556,7 +1470,7 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 	struct rtsup_thread *pt, *nt;
 	struct cycle_switch_rec *r = NULL;
 	enum cycle_out_path out = CYC_OUT_IDLE;
-	int voluntary, hold = 0, unseen = -1;
+	int voluntary, hold = 0;
 	__u32 ev, state = 0, cpu = bpf_get_smp_processor_id();
 	struct why_slot *ws = why_slot_of(cpu);
 	__u64 now;
@@ -1586,12 +1500,6 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 	if (pt)
 		out = cycle_switch_out_path(&pt->cs, voluntary);
 	now = switch_timed(nt, hold, out) ? bpf_ktime_get_ns() : 0;
-	/* a block in its own delimiter, whose entry the kernel skipped: asleep there */
-	if (out == CYC_OUT_BLOCK && cfg_sys_per && cfg_block_sys) {
-		unseen = delim_entered_unseen(pt, now);
-		if (unseen >= 0)
-			out = cycle_switch_out_path(&pt->cs, voluntary);
-	}
 	if (hold) {
 		if (!r)
 			r = held_switch_in();
@@ -1613,11 +1521,6 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 			in.prio = why_rt(in.policy) ? (__s32)TREAD(btf, prev, rt_priority) : 0;
 		}
 		ev = switch_out_state(pt, &in);
-		/* a cycle the recovered entry closed (asleep, the switch-out closes none) */
-		if (unseen > 0 && (unseen & CYC_EV_CLOSED)) {
-			ev |= unseen;
-			in.lateness = now - pt->cs.expected;
-		}
 		switch_out_events(pt, &in, ev);
 	}
 	if (nt) {

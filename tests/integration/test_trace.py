@@ -33,8 +33,9 @@ def check_timing_counts(truth_t, tot):
         tot["overruns"], truth_t["overruns_seen"], truth_t["overruns_near"])
 
 
-def check_thread_matches(truth_t, got):
-    """Every injected fault of one thread is reported with the exact count."""
+def check_thread_matches(truth_t, got, extra_blocks=0):
+    """Every injected fault of one thread is reported with the exact count
+    (extra_blocks: real blocks the generator did not inject, see the caller)."""
     tot = got["total"]
     assert got["mode"] == "delimiter"
     # cycles within 1 %, period within 2 %
@@ -55,7 +56,7 @@ def check_thread_matches(truth_t, got):
     # the generator's waits that slept: one that came late by the block's
     # length found the lock free, and no block happened (once in rt-6.12)
     blocks = {"unsafe": tot["unsafe"], "status": got.get("status"), "causes": got.get("causes")}
-    assert tot["unsafe"]["block"] == truth_t["blocks"], json.dumps(blocks)
+    assert tot["unsafe"]["block"] == truth_t["blocks"] + extra_blocks, json.dumps(blocks)
     unsafe_truth = {k: v for k, v in truth_t["syscalls"].items() if k != "futex"}
     assert tot["unsafe_syscalls"] == unsafe_truth
     assert tot["unsafe"]["syscall"] == sum(unsafe_truth.values())
@@ -1344,22 +1345,28 @@ def test_per_syscall_hooks_count_exactly_and_spare_other_threads(tmp_path):
     assert max(walked.values()) <= VERIFIED_PER_PROGRAM, walked
     assert sum(walked.values()) <= VERIFIED_TOTAL, walked
     got = threads_by_tid(summary)
+    skipped_entries = 0
     for t in truth["threads"]:
         # blocks are sched_switch's, not the syscall hooks': the injected ones,
-        # futex waits, exactly. A fentry program runs preemptible (on
+        # futex waits, exactly. But a fentry program runs preemptible (on
         # PREEMPT_RT, and on any preemptible kernel): preempted inside the
         # delimiter's stub, it makes the kernel skip that stub for the next
-        # task on the CPU to enter the same syscall (its recursion check). A
-        # target whose delimiter entry was skipped then sleeps in it "inside
-        # its cycle" (CI 43: 2 blocks in clock_nanosleep where the generator
-        # made 1): rtsup-trace takes such a block as the entry, so none is
-        # left (docs/design.md, "Runs the kernel skips")
+        # task on the CPU to enter the same syscall (its recursion check),
+        # and a target whose delimiter entry was skipped sleeps in it "inside
+        # its cycle": a block in clock_nanosleep (CI 43: 2 such, where the
+        # generator made 1). A skipped return rtsup-trace recovers at the
+        # thread's next syscall (health.hook_runs_recovered). The kernel
+        # counts each skipped run, and so does rtsup-trace
+        # (health.hook_runs_missed): the two kinds together are no more;
+        # raw_syscalls' tracepoints run non-preemptible and skip none
+        # (docs/design.md, "Runs the kernel skips")
         where = block_events(intervals, t["tid"])
-        assert where == ({"futex": t["blocks"]} if t["blocks"] else {}), where
-        check_thread_matches(t, got[t["tid"]])
-    # each recovered entry or return is a run the kernel skipped, and counted so
+        assert where.get("futex", 0) == t["blocks"], where
+        assert set(where) <= {"futex", DELIM}, where
+        skipped_entries += where.get(DELIM, 0)
+        check_thread_matches(t, got[t["tid"]], extra_blocks=where.get(DELIM, 0))
     health = summary["health"]
-    assert health["hook_runs_recovered"] <= health["hook_runs_missed"], health
+    assert skipped_entries + health["hook_runs_recovered"] <= health["hook_runs_missed"], health
     # the same measure sees raw_syscalls' two runs per syscall: the check can fail
     raw = Trace(["--syscall-hooks", "raw", "--no-overhead", "--comm", prefix + "-none"])
     try:

@@ -606,7 +606,7 @@ static void render_self(const struct prom_in *in, struct prom_buf *b)
 		    "Runs of rtsup's BPF programs the kernel skipped: the same program was running on that CPU.");
 	prom_sample(b, "rtsup_hook_runs_missed_total", in->s->health.hook_runs_missed, NULL);
 	prom_family(b, "rtsup_hook_runs_recovered_total", "counter",
-		    "Of the runs missed, a target's delimiter entries and returns rtsup found otherwise.");
+		    "Of the runs missed, the delimiter returns of targets rtsup-trace found otherwise.");
 	prom_sample(b, "rtsup_hook_runs_recovered_total", in->s->health.hook_runs_recovered,
 		    NULL);
 	prom_family(b, "rtsup_parse_errors_total", "counter",
