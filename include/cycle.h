@@ -561,6 +561,30 @@ RTSUP_INLINE void cycle_delim_exit(struct rtsup_thread *t, __u64 now, int interr
 }
 
 /*
+ * cycle_exit_missed - the thread enters a syscall while still in its
+ * delimiter: that delimiter returned unseen (per-syscall hooks, whose runs
+ * the kernel may skip: docs/design.md, "Runs the kernel skips"). Released
+ * at its first switch-in after its release, as cycle_delim_exit would have
+ * said; without such a switch-in the release time is unknown: that cycle
+ * is not counted, nor the next one's period, which would span two. Its
+ * faults count from here. 1 when the return was missed.
+ */
+RTSUP_INLINE int cycle_exit_missed(struct rtsup_thread *t, __u64 minflt, __u64 majflt)
+{
+	struct rtsup_cycle_state *cs = &t->cs;
+
+	if (!cs->in_delim)
+		return 0;
+	if (cycle_delim_exit_path(cs, 0) == CYC_EXIT_SWITCHED_IN) {
+		cycle_delim_exit(t, cs->in_ts, 0, minflt, majflt);
+	} else {
+		cs->in_delim = 0;
+		cs->last_start = 0;
+	}
+	return 1;
+}
+
+/*
  * cycle_wakeup_read - will the time of a wakeup now ever be read? Only by
  * activations and by a delimiter without a requested release: a periodic
  * thread sleeping until a requested release needs no clock read here.

@@ -495,6 +495,7 @@ enum rtsup_counter {
 	RTSUP_C_CYC_DROPS,	/* cycle records the recording buffer had no room for */
 	RTSUP_C_CAN_FULL,	/* CAN frames whose identifier did not fit the id map */
 	RTSUP_C_WHY_BUSY,	/* target wakeups not attributed: another target waited there */
+	RTSUP_C_DELIM_UNSEEN,	/* delimiter returns the hooks skipped, recovered */
 	RTSUP_C_NR,
 };
 

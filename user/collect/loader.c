@@ -438,6 +438,17 @@ static bool sys_per_failed;
 /* the same for the task iterator (an old kernel): the collector asks per thread */
 static bool attrs_iter_failed;
 
+/* has_task_pt_regs - bpf_task_pt_regs (5.15)? Probed once: a start may retry */
+static bool has_task_pt_regs(void)
+{
+	static int probed = -1;
+
+	if (probed < 0)
+		probed = libbpf_probe_bpf_helper(BPF_PROG_TYPE_RAW_TRACEPOINT,
+						 BPF_FUNC_task_pt_regs, NULL) == 1;
+	return probed;
+}
+
 /* prog_info - a program's info from the kernel: 0, 1 when it is not loaded, -1 unreadable */
 static int prog_info(const struct bpf_program *p, struct bpf_prog_info *info)
 {
@@ -548,8 +559,7 @@ int loader_start(struct loader *l, const struct options *o)
 	}
 	s->rodata->cfg_sys_per = l->sys_per;
 	/* a block's syscall read where it blocks, where the helper is (5.15) */
-	s->rodata->cfg_block_sys =
-		libbpf_probe_bpf_helper(BPF_PROG_TYPE_RAW_TRACEPOINT, BPF_FUNC_task_pt_regs, NULL) == 1;
+	s->rodata->cfg_block_sys = has_task_pt_regs();
 	/* the targets' attributes in one read a sample, where tracing programs load */
 	l->attrs_iter = l->tp_btf && !attrs_iter_failed && !o->floor;
 	select_programs(s->obj, l->tp_btf, o->can, l->fault_stacks, l->rt_hook, l->attrs_iter,
@@ -672,8 +682,18 @@ int loader_start(struct loader *l, const struct options *o)
 		s->links.attrs_task = bpf_program__attach_iter(s->progs.attrs_task, NULL);
 		l->attrs_iter = s->links.attrs_task != NULL;
 	}
-	if (!err && o->floor)
+	if (!err && o->floor) {
 		err = floor_start(l, o);
+		/* the floor falls back as ours does: its set is the one we would run */
+		if (err && (l->rt_hook || (l->sys_per && o->sys_hooks == SYS_HOOKS_AUTO))) {
+			loader_stop(l);
+			if (l->sys_per && o->sys_hooks == SYS_HOOKS_AUTO)
+				sys_per_failed = true;
+			else
+				rt_hook_failed = true;
+			return loader_start(l, o);
+		}
+	}
 	if (err) {
 		fprintf(stderr, "rtsup-trace: attaching the BPF programs failed: %s\n",
 			strerror(-err));

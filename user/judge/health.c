@@ -9,6 +9,7 @@ void health_counters(struct health *h, const __u64 *counters)
 	h->untracked_threads = counters[RTSUP_C_MAP_FULL];
 	h->untracked_syscall_counts = counters[RTSUP_C_SYS_FULL];
 	h->can_frames_not_counted = counters[RTSUP_C_CAN_FULL];
+	h->hook_runs_recovered = counters[RTSUP_C_DELIM_UNSEEN];
 }
 
 double health_fill_pct(const struct health_map *m)

@@ -31,6 +31,7 @@ struct health {
 	__u64 parse_errors;		/* /proc and cgroup text that did not parse, skipped */
 	__u64 actions_dropped;		/* actions not run: rate limit or too many running */
 	__u64 hook_runs_missed;		/* runs of our programs the kernel skipped (recursion) */
+	__u64 hook_runs_recovered;	/* of them, delimiter returns found otherwise */
 	struct health_map thread_map;
 	struct health_map can_id_map;	/* capacity 0 without --can */
 };

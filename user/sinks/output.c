@@ -374,7 +374,7 @@ static json_t *json_map_fill(const struct health_map *m)
 /* json_health - rtsup-trace's own health (health.h, docs/json.md) */
 static json_t *json_health(const struct health *h)
 {
-	return json_pack("{s:b,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:o,s:o}", "ok",
+	return json_pack("{s:b,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:o,s:o}", "ok",
 			 !health_problems(h), "lost_events", (json_int_t)h->lost_events,
 			 "lost_cycle_records", (json_int_t)h->lost_cycle_records,
 			 "untracked_threads", (json_int_t)h->untracked_threads,
@@ -384,6 +384,7 @@ static json_t *json_health(const struct health *h)
 			 "parse_errors", (json_int_t)h->parse_errors,
 			 "actions_dropped", (json_int_t)h->actions_dropped,
 			 "hook_runs_missed", (json_int_t)h->hook_runs_missed,
+			 "hook_runs_recovered", (json_int_t)h->hook_runs_recovered,
 			 "thread_map", json_map_fill(&h->thread_map),
 			 "can_id_map", json_map_fill(&h->can_id_map));
 }
@@ -867,6 +868,9 @@ static void table_health(const struct health *h)
 		       (unsigned long long)h->can_frames_not_counted);
 	if (h->hook_runs_missed)
 		printf(", %llu hook runs missed", (unsigned long long)h->hook_runs_missed);
+	if (h->hook_runs_recovered)
+		printf(" (%llu delimiter runs recovered)",
+		       (unsigned long long)h->hook_runs_recovered);
 	table_map_fill("thread map", &h->thread_map);
 	table_map_fill("CAN id map", &h->can_id_map);
 	printf("\n");

@@ -605,6 +605,10 @@ static void render_self(const struct prom_in *in, struct prom_buf *b)
 	prom_family(b, "rtsup_hook_runs_missed_total", "counter",
 		    "Runs of rtsup's BPF programs the kernel skipped: the same program was running on that CPU.");
 	prom_sample(b, "rtsup_hook_runs_missed_total", in->s->health.hook_runs_missed, NULL);
+	prom_family(b, "rtsup_hook_runs_recovered_total", "counter",
+		    "Of the runs missed, the delimiter returns of targets rtsup-trace found otherwise.");
+	prom_sample(b, "rtsup_hook_runs_recovered_total", in->s->health.hook_runs_recovered,
+		    NULL);
 	prom_family(b, "rtsup_parse_errors_total", "counter",
 		    "/proc and cgroup text that did not parse and was skipped.");
 	prom_sample(b, "rtsup_parse_errors_total", in->s->health.parse_errors, NULL);

@@ -15,6 +15,7 @@
  */
 #include <errno.h>
 #include <stdarg.h>
+#include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -74,6 +75,32 @@ static size_t rec_size(unsigned int type)
 		return sizeof(struct rec_module);
 	}
 	return 0;
+}
+
+/*
+ * rec_older_size - a record of an older recording, shorter than today's:
+ * an event before it carried its cause, or all of it (the rest reads as
+ * zero), an interval with fewer counters (interval_from_c7)
+ */
+static bool rec_older_size(unsigned int type, size_t len)
+{
+	if (type == REC_EVENT)
+		return len == REC_EVENT_NO_CAUSE || len == REC_EVENT_CAUSE_1 ||
+		       len == REC_EVENT_CAUSE_2;
+	return (type == REC_INTERVAL || type == REC_END) && len == REC_INTERVAL_C7;
+}
+
+_Static_assert(RTSUP_C_NR > 7, "an interval of 7 counters would read as today's");
+
+/* interval_from_c7 - an interval of 7 counters: its overhead follows them */
+static void interval_from_c7(void *buf)
+{
+	struct rec_interval *ri = buf;
+	double overhead;
+
+	memcpy(&overhead, &ri->counters[7], sizeof(overhead));
+	memset(&ri->counters[7], 0, sizeof(ri->counters) - 7 * sizeof(__u64));
+	ri->overhead_pct = overhead;
 }
 
 static const char *rec_type_name(unsigned int type)
@@ -475,10 +502,7 @@ int rec_next(struct rec_reader *r, enum rec_type *type, void *buf, size_t *len,
 		r_fail(r, "record length %u over the maximum %d", l16, REC_MAX_PAYLOAD);
 		goto out;
 	}
-	/* an event recorded before it carried its cause, or all of it: the rest is zero */
-	if (l16 != want && !(t16 == REC_EVENT && (l16 == REC_EVENT_NO_CAUSE ||
-						  l16 == REC_EVENT_CAUSE_1 ||
-						  l16 == REC_EVENT_CAUSE_2))) {
+	if (l16 != want && !rec_older_size(t16, l16)) {
 		r_fail(r, "%s record of %u bytes, expected %zu", rec_type_name(t16), l16,
 		       want);
 		goto out;
@@ -503,6 +527,8 @@ int rec_next(struct rec_reader *r, enum rec_type *type, void *buf, size_t *len,
 		memset((char *)buf + l16, 0, want - l16);
 		*len = want;
 	}
+	if ((t16 == REC_INTERVAL || t16 == REC_END) && l16 == REC_INTERVAL_C7)
+		interval_from_c7(buf);
 	return 1;
 out:
 	seterr(err, errlen, "%s", r->msg);

@@ -121,6 +121,9 @@ struct rec_interval {
 	__u64 counters[RTSUP_C_NR];
 	double overhead_pct;	/* BPF run time in the interval, % of a CPU; <0 unknown */
 };
+/* an interval of a recording made before RTSUP_C_DELIM_UNSEEN: 7 counters */
+#define REC_INTERVAL_C7	(offsetof(struct rec_interval, counters) + 7 * sizeof(__u64) + \
+			 sizeof(double))
 
 struct rec_writer;
 struct rec_reader;

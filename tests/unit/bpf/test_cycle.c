@@ -505,6 +505,59 @@ static void test_cycle_delim_no_sleep(void **state)
 	assert_int_equal(f->t.vol_cs, 2);
 }
 
+/*
+ * exit_missed - a hooked syscall's entry: the per-syscall hooks' check that
+ * the thread left its delimiter (the kernel may skip the return's stub)
+ */
+static int exit_missed(struct fx *f)
+{
+	on_cpu(f);
+	return cycle_exit_missed(&f->t, f->minflt, f->majflt);
+}
+
+/* a delimiter return the hooks skipped: released at its switch-in all the same */
+static void test_cycle_exit_missed_released_at_switch_in(void **state)
+{
+	struct fx *f = *state;
+	__u64 now = steady(f, rel(0), 1, 2);
+
+	assert_int_equal(exit_missed(f), 0);	/* it returned: nothing missed */
+	assert_int_equal(enter(f, now, rel(3)), CYC_EV_CLOSED);
+	assert_int_equal(sw_out(f, now + 1 * US, 1), 0);
+	cycle_wakeup(&f->t, rel(3) + 2 * US);
+	assert_int_equal(sw_in(f, rel(3) + LAT), 0);
+	/* no leave(): its next syscall is the next delimiter entry */
+	now = rel(3) + LAT + EXEC;
+	assert_int_equal(exit_missed(f), 1);
+	assert_int_equal(enter(f, now, rel(4)), CYC_EV_CLOSED);
+	assert_int_equal(f->out.start, rel(3) + LAT);
+	assert_int_equal(f->out.exec, EXEC);
+	assert_int_equal(f->out.cpu, EXEC);
+	assert_int_equal(f->out.latency, LAT);
+	assert_int_equal(f->out.period, MS);
+	assert_int_equal(f->out.blocks, 0);
+	assert_int_equal(f->t.cycles, 3);
+}
+
+/* a skipped return with no switch-in: that cycle and the next period are lost */
+static void test_cycle_exit_missed_without_switch_in(void **state)
+{
+	struct fx *f = *state;
+	__u64 now = steady(f, rel(0), 1, 2);
+
+	/* release 3 is past at the entry: no sleep, and its return unseen */
+	assert_int_equal(enter(f, now, rel(3)), CYC_EV_CLOSED);
+	assert_int_equal(exit_missed(f), 1);
+	assert_false(f->t.cs.in_delim);
+	/* a cycle closes nothing it never began */
+	assert_int_equal(enter(f, now + 50 * US, rel(4)), 0);
+	wake_up(f, 4);
+	assert_int_equal(enter(f, rel(4) + LAT + EXEC, rel(5)), CYC_EV_CLOSED);
+	assert_false(f->out.flags & RTSUP_CF_HAS_PERIOD);	/* it would span two */
+	assert_int_equal(f->out.exec, EXEC);
+	assert_int_equal(f->t.cycles, 3);
+}
+
 /* migration inside a cycle counts as unsafe; at the release it does not */
 static void test_cycle_migration(void **state)
 {
@@ -1552,6 +1605,8 @@ int main(void)
 		T(test_cycle_relative_sleep),
 		T(test_cycle_preempt_in_cycle),
 		T(test_cycle_block_in_cycle),
+		T(test_cycle_exit_missed_released_at_switch_in),
+		T(test_cycle_exit_missed_without_switch_in),
 		T(test_cycle_switch_voluntary_states),
 		T(test_cycle_rtlock_wait_in_cycle),
 		T(test_cycle_miss_overrun),

@@ -685,6 +685,61 @@ static void test_record_event_without_cause(void **state)
 	old_event(state, REC_EVENT_CAUSE_2);
 }
 
+/*
+ * an interval recorded with 7 counters (REC_INTERVAL_C7, before
+ * RTSUP_C_DELIM_UNSEEN): its counters read, the new one zero, its overhead
+ * where it was
+ */
+static void test_record_interval_of_7_counters(void **state)
+{
+	unsigned char payload_buf[REC_MAX_PAYLOAD], old[REC_INTERVAL_C7], *b;
+	__u16 t = REC_INTERVAL, len = REC_INTERVAL_C7;
+	double overhead = 0.25;
+	struct rec_interval ri;
+	struct fx *f = *state;
+	struct rec_reader *r;
+	struct rec_header h;
+	struct layout l;
+	enum rec_type type;
+	char err[ERRLEN];
+	size_t size, got;
+	__u64 v;
+	__u32 crc;
+	FILE *o;
+	int k;
+
+	for (k = 0; k < 8; k++) {	/* mono_ns, then counters 0..6: 100, 101... */
+		v = 100 + k - 1;
+		memcpy(old + k * 8, &v, 8);
+	}
+	memcpy(old + 64, &overhead, sizeof(overhead));
+	crc = crc32(0L, old, len);
+	write_trace(f->path, 0, false, &l);
+	b = slurp(f->path, &size);
+	spill(f->path2, b, size);
+	free(b);
+	o = fopen(f->path2, "ab");
+	assert_non_null(o);
+	fwrite(&t, 2, 1, o);
+	fwrite(&len, 2, 1, o);
+	fwrite(&crc, 4, 1, o);
+	fwrite(old, 1, len, o);
+	fclose(o);
+	assert_int_equal(rec_open(&r, f->path2, &h, err, ERRLEN), 0);
+	while (rec_next(r, &type, payload_buf, &got, err, ERRLEN) == 1)
+		;
+	assert_int_equal(type, REC_INTERVAL);
+	assert_int_equal(got, sizeof(ri));
+	memcpy(&ri, payload_buf, sizeof(ri));
+	assert_int_equal(ri.mono_ns, 99);
+	for (k = 0; k < 7; k++)
+		assert_int_equal(ri.counters[k], 100 + k);
+	assert_int_equal(ri.counters[RTSUP_C_DELIM_UNSEEN], 0);
+	assert_true(ri.overhead_pct == 0.25);
+	rec_free(r);
+	free(h.config_text);
+}
+
 /* headers that are cut, too long, not JSON, not an object, mistyped */
 static void test_record_bad_header(void **state)
 {
@@ -950,6 +1005,7 @@ int main(void)
 		T(test_record_bad_record_header),
 		T(test_record_size_mismatch),
 		T(test_record_event_without_cause),
+		T(test_record_interval_of_7_counters),
 		T(test_record_bad_header),
 		T(test_record_missing_file),
 		T(test_record_create_fails),
