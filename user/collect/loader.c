@@ -685,12 +685,12 @@ int loader_start(struct loader *l, const struct options *o)
 	if (!err && o->floor) {
 		err = floor_start(l, o);
 		/* the floor falls back as ours does: its set is the one we would run */
-		if (err && (l->rt_hook || (l->sys_per && o->sys_hooks == SYS_HOOKS_AUTO))) {
+		bool *drop = l->sys_per && o->sys_hooks == SYS_HOOKS_AUTO ? &sys_per_failed :
+			     l->rt_hook ? &rt_hook_failed : NULL;
+
+		if (err && drop) {
 			loader_stop(l);
-			if (l->sys_per && o->sys_hooks == SYS_HOOKS_AUTO)
-				sys_per_failed = true;
-			else
-				rt_hook_failed = true;
+			*drop = true;
 			return loader_start(l, o);
 		}
 	}

@@ -626,25 +626,17 @@ static void test_record_size_mismatch(void **state)
 }
 
 /*
- * an event recorded before events carried a cause (len REC_EVENT_NO_CAUSE),
- * before a cause said when and where (REC_EVENT_CAUSE_1), or before it had
- * the hypervisor's steal (REC_EVENT_CAUSE_2): read, the rest zero
+ * open_with_record - a fresh trace with one more record (type t, payload of
+ * len bytes) appended, opened: its reader in *r, its header in *h
  */
-static void old_event(void **state, __u16 len)
+static void open_with_record(struct fx *f, __u16 t, const void *payload, __u16 len,
+			     struct rec_reader **r, struct rec_header *h)
 {
-	unsigned char payload_buf[REC_MAX_PAYLOAD], *b;
-	struct rtsup_event e = { .ts = 5, .type = RTSUP_EV_MISS, .tid = 7, .arg = 42,
-				 .cause = { .kind = RTSUP_CAUSE_TIMER, .held_to = 9,
-					   .steal_ns = 11 } };
-	__u16 t = REC_EVENT;
-	struct fx *f = *state;
-	struct rec_reader *r;
-	struct rec_header h;
-	struct layout l;
-	enum rec_type type;
+	__u32 crc = crc32(0L, payload, len);
 	char err[ERRLEN];
-	size_t size, got, n = 0;
-	__u32 crc = crc32(0L, (const unsigned char *)&e, len);
+	struct layout l;
+	unsigned char *b;
+	size_t size;
 	FILE *o;
 
 	write_trace(f->path, 0, false, &l);
@@ -656,9 +648,29 @@ static void old_event(void **state, __u16 len)
 	fwrite(&t, 2, 1, o);
 	fwrite(&len, 2, 1, o);
 	fwrite(&crc, 4, 1, o);
-	fwrite(&e, 1, len, o);
+	fwrite(payload, 1, len, o);
 	fclose(o);
-	assert_int_equal(rec_open(&r, f->path2, &h, err, ERRLEN), 0);
+	assert_int_equal(rec_open(r, f->path2, h, err, ERRLEN), 0);
+}
+
+/*
+ * an event recorded before events carried a cause (len REC_EVENT_NO_CAUSE),
+ * before a cause said when and where (REC_EVENT_CAUSE_1), or before it had
+ * the hypervisor's steal (REC_EVENT_CAUSE_2): read, the rest zero
+ */
+static void old_event(void **state, __u16 len)
+{
+	unsigned char payload_buf[REC_MAX_PAYLOAD];
+	struct rtsup_event e = { .ts = 5, .type = RTSUP_EV_MISS, .tid = 7, .arg = 42,
+				 .cause = { .kind = RTSUP_CAUSE_TIMER, .held_to = 9,
+					   .steal_ns = 11 } };
+	struct rec_reader *r;
+	struct rec_header h;
+	enum rec_type type;
+	char err[ERRLEN];
+	size_t got, n = 0;
+
+	open_with_record(*state, REC_EVENT, &e, len, &r, &h);
 	memset(payload_buf, 0xff, sizeof(payload_buf));
 	while (rec_next(r, &type, payload_buf, &got, err, ERRLEN) == 1)
 		n++;
@@ -692,20 +704,15 @@ static void test_record_event_without_cause(void **state)
  */
 static void test_record_interval_of_7_counters(void **state)
 {
-	unsigned char payload_buf[REC_MAX_PAYLOAD], old[REC_INTERVAL_C7], *b;
-	__u16 t = REC_INTERVAL, len = REC_INTERVAL_C7;
+	unsigned char payload_buf[REC_MAX_PAYLOAD], old[REC_INTERVAL_C7];
 	double overhead = 0.25;
 	struct rec_interval ri;
-	struct fx *f = *state;
 	struct rec_reader *r;
 	struct rec_header h;
-	struct layout l;
 	enum rec_type type;
 	char err[ERRLEN];
-	size_t size, got;
+	size_t got;
 	__u64 v;
-	__u32 crc;
-	FILE *o;
 	int k;
 
 	for (k = 0; k < 8; k++) {	/* mono_ns, then counters 0..6: 100, 101... */
@@ -713,19 +720,7 @@ static void test_record_interval_of_7_counters(void **state)
 		memcpy(old + k * 8, &v, 8);
 	}
 	memcpy(old + 64, &overhead, sizeof(overhead));
-	crc = crc32(0L, old, len);
-	write_trace(f->path, 0, false, &l);
-	b = slurp(f->path, &size);
-	spill(f->path2, b, size);
-	free(b);
-	o = fopen(f->path2, "ab");
-	assert_non_null(o);
-	fwrite(&t, 2, 1, o);
-	fwrite(&len, 2, 1, o);
-	fwrite(&crc, 4, 1, o);
-	fwrite(old, 1, len, o);
-	fclose(o);
-	assert_int_equal(rec_open(&r, f->path2, &h, err, ERRLEN), 0);
+	open_with_record(*state, REC_INTERVAL, old, REC_INTERVAL_C7, &r, &h);
 	while (rec_next(r, &type, payload_buf, &got, err, ERRLEN) == 1)
 		;
 	assert_int_equal(type, REC_INTERVAL);
