@@ -421,9 +421,24 @@ static int life_add(struct thread_model *tm, const struct rtsup_thread *t,
 	return 0;
 }
 
+/*
+ * life_view_kept - the lifetime view of metric i is the one the last call
+ * computed: its inputs did not move (the scalars the view reads, and no
+ * bucket: life_add just wrote the interval's span). An idle thread's
+ * lifetime percentiles are not walked again every interval.
+ */
+static bool life_view_kept(const struct life_hist *l, const struct rtsup_metric_stats *cur,
+			   const struct rtsup_metric_stats *base, int i)
+{
+	return l->wlo[i] > l->whi[i] && cur->count == base->count && cur->sum == base->sum &&
+	       cur->min == base->min && cur->max == base->max && cur->ewma == base->ewma;
+}
+
 void model_views(struct thread_model *tm, const struct rtsup_thread *t,
 		 const struct rtsup_thread *prev, __u32 bank)
 {
+	/* the lifetime views were computed from life_hist by the last call */
+	bool had_life = tm->life_hist != NULL;
 	const struct rtsup_thread *base;
 	struct life_hist *l;
 	__u64 h[HIST_BUCKETS];
@@ -444,6 +459,8 @@ void model_views(struct thread_model *tm, const struct rtsup_thread *t,
 			h[b] = l->win[i][b];
 		window_counts(&t->m[i], base ? &base->m[i] : NULL, bank, h, l->wlo[i], l->whi[i],
 			      &tm->win.m[i]);
+		if (had_life && base && life_view_kept(l, &t->m[i], &base->m[i], i))
+			continue;
 		view_counts(&t->m[i], l->h[i], l->lo[i], l->hi[i], &tm->life.m[i]);
 	}
 }

@@ -511,7 +511,7 @@ static void check_views(const struct thread_model *tm, const struct rtsup_thread
  */
 static void test_model_views_follow_moving_buckets(void **state)
 {
-	static const __u64 exec[] = { 10 * US, 5 * MS, 0, 50 * US, 0, 2 * MS };
+	static const __u64 exec[] = { 10 * US, 5 * MS, 0, 50 * US, 0, 2 * MS, 0, 3 * MS };
 	static __u64 life[RTSUP_M_NR][HIST_BUCKETS];
 	struct tfx *t = *state;
 	struct model m = { 0 };
@@ -534,7 +534,9 @@ static void test_model_views_follow_moving_buckets(void **state)
 			assert_int_equal(tm->win.m[RTSUP_M_EXEC].count, 0);
 			continue;
 		}
-		if (k == 4) {	/* the kernel restarted the statistics */
+		if (k == 6) {	/* a snapshot without a cycle: the lifetime views are kept */
+			t->cur.vol_cs++;
+		} else if (k == 4) {	/* the kernel restarted the statistics */
 			for (i = 0; i < RTSUP_M_NR; i++)
 				metric_init(&t->cur.m[i]);
 			t->cur.resets++;
@@ -554,6 +556,52 @@ static void test_model_views_follow_moving_buckets(void **state)
 		prev = t->cur;
 		have_prev = true;
 	}
+	model_free(&m);
+}
+
+/*
+ * An idle thread costs no percentile walk: a snapshot where a metric did
+ * not move keeps that metric's lifetime view (the poisoned p99 stays), one
+ * where it moved computes it again, as does a bucket read before its count
+ * (a torn read); a restart of the kernel's statistics computes every view
+ * again, whatever the counts.
+ */
+static void test_model_idle_snapshot_keeps_life_views(void **state)
+{
+	struct tfx *t = *state;
+	struct model m = { 0 };
+	struct thread_model *tm = model_get(&m, 42, true);
+	struct metric_view *life_exec;
+	__u64 p99;
+
+	assert_non_null(tm);
+	t->cur.first_seen = 7;
+	add_cycles(&t->cur, 20, 100 * US, 0);
+	model_set(tm, &t->cur, 0);
+	life_exec = &tm->life.m[RTSUP_M_EXEC];
+	p99 = life_exec->p99;
+	assert_int_equal(p99 / US, 100);
+
+	life_exec->p99 = 12345;		/* poison: kept only if not walked again */
+	t->cur.vol_cs++;
+	model_set(tm, &t->cur, 1);
+	assert_int_equal(life_exec->p99, 12345);
+	assert_int_equal(tm->win.m[RTSUP_M_EXEC].count, 0);
+	assert_int_equal(tm->life.cycles, 20);
+
+	add_cycles(&t->cur, 1, 100 * US, 0);	/* moved: computed again */
+	model_set(tm, &t->cur, 0);
+	assert_int_equal(life_exec->p99, p99);
+
+	life_exec->p99 = 12345;	/* a torn read: a bucket moved, its count not yet */
+	t->cur.m[RTSUP_M_EXEC].hist[hist_bucket(100 * US)]++;
+	model_set(tm, &t->cur, 1);
+	assert_int_not_equal(life_exec->p99, 12345);
+
+	life_exec->p99 = 12345;
+	t->cur.resets++;	/* the same counts, but since a restart */
+	model_set(tm, &t->cur, 1);
+	assert_int_equal(life_exec->p99, p99);
 	model_free(&m);
 }
 
@@ -841,6 +889,7 @@ int main(void)
 		TS(test_model_set_snapshots),
 		TS(test_model_life_hist_wrap),
 		TS(test_model_views_follow_moving_buckets),
+		TS(test_model_idle_snapshot_keeps_life_views),
 		M(test_model_get_sorted),
 		M(test_model_entries_do_not_move),
 		M(test_model_remove),
