@@ -467,6 +467,11 @@ void model_views(struct thread_model *tm, const struct rtsup_thread *t,
 
 void model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank)
 {
+	/* the same bytes as the last snapshot: an empty interval, the same lifetime */
+	if (tm->cur.first_seen && !memcmp(&tm->cur, t, sizeof(*t))) {
+		model_idle(tm);
+		return;
+	}
 	model_views(tm, t, tm->cur.first_seen ? &tm->cur : NULL, bank);
 	tm->cur = *t;
 }

@@ -162,7 +162,8 @@ void span_window(const struct rtsup_thread *cur, const struct rtsup_thread *prev
 
 /*
  * model_set - a new snapshot of the thread's kernel entry; its interval
- * view is the change since the previous one (none yet: since the start)
+ * view is the change since the previous one (none yet: since the start).
+ * A snapshot equal to the last one (a parked thread) costs a compare.
  */
 void model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank);
 /* model_views - the interval (t minus prev, NULL: since the start) and lifetime views */

@@ -560,8 +560,9 @@ static void test_model_views_follow_moving_buckets(void **state)
 }
 
 /*
- * An idle thread costs no percentile walk: a snapshot where a metric did
- * not move keeps that metric's lifetime view (the poisoned p99 stays), one
+ * An idle thread costs no percentile walk: a snapshot equal to the last
+ * one computes nothing, one where a metric did not move keeps that
+ * metric's lifetime view (the poisoned p99 stays), one
  * where it moved computes it again, as does a bucket read before its count
  * (a torn read); a restart of the kernel's statistics computes every view
  * again, whatever the counts.
@@ -582,8 +583,19 @@ static void test_model_idle_snapshot_keeps_life_views(void **state)
 	p99 = life_exec->p99;
 	assert_int_equal(p99 / US, 100);
 
+	/* the same bytes again (a parked thread): nothing is computed, the interval empties */
+	assert_int_equal(tm->life_hist->win[RTSUP_M_EXEC][hist_bucket(100 * US)], 20);
 	life_exec->p99 = 12345;		/* poison: kept only if not walked again */
-	t->cur.vol_cs++;
+	tm->life.cycles = 777;
+	model_set(tm, &t->cur, 1);
+	assert_int_equal(life_exec->p99, 12345);
+	assert_int_equal(tm->life.cycles, 777);
+	assert_int_equal(tm->win.cycles, 0);
+	assert_int_equal(tm->win.m[RTSUP_M_EXEC].count, 0);
+	assert_int_equal(tm->life_hist->win[RTSUP_M_EXEC][hist_bucket(100 * US)], 0);
+	tm->life.cycles = 20;
+
+	t->cur.vol_cs++;	/* a switch, no cycle: the counters again, not the percentiles */
 	model_set(tm, &t->cur, 1);
 	assert_int_equal(life_exec->p99, 12345);
 	assert_int_equal(tm->win.m[RTSUP_M_EXEC].count, 0);
