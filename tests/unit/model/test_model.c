@@ -476,6 +476,26 @@ static void test_model_set_snapshots(void **state)
 	model_free(&m);
 }
 
+/* life_at - the model's lifetime count of bucket b of metric i */
+static __u64 life_at(const struct thread_model *tm, int i, int b)
+{
+	__u64 h[HIST_BUCKETS];
+	int lo, hi;
+
+	assert_true(model_life_counts(tm, i, h, &lo, &hi));
+	return b >= lo && b <= hi ? h[b] : 0;
+}
+
+/* win_at - the model's count of bucket b of metric i in the last interval */
+static __u64 win_at(const struct thread_model *tm, int i, int b)
+{
+	__u64 h[HIST_BUCKETS];
+	int lo, hi;
+
+	assert_true(model_win_counts(tm, i, h, &lo, &hi));
+	return b >= lo && b <= hi ? h[b] : 0;
+}
+
 /* check_views - tm against the snapshots: every bucket, and the public views */
 static void check_views(const struct thread_model *tm, const struct rtsup_thread *cur,
 			const struct rtsup_thread *base, __u64 (*life)[HIST_BUCKETS],
@@ -488,8 +508,8 @@ static void check_views(const struct thread_model *tm, const struct rtsup_thread
 		for (b = 0; b < HIST_BUCKETS; b++) {
 			__u32 d = cur->m[i].hist[b] - (base ? base->m[i].hist[b] : 0);
 
-			assert_int_equal(tm->life_hist->win[i][b], d);
-			assert_int_equal(tm->life_hist->h[i][b], life[i][b]);
+			assert_int_equal(win_at(tm, i, b), d);
+			assert_int_equal(life_at(tm, i, b), life[i][b]);
 			if (d)
 				assert_true(tm->life_hist->wlo[i] <= b && b <= tm->life_hist->whi[i]);
 			if (life[i][b])
@@ -530,7 +550,7 @@ static void test_model_views_follow_moving_buckets(void **state)
 			model_idle(tm);
 			for (i = 0; i < RTSUP_M_NR; i++)
 				for (b = 0; b < HIST_BUCKETS; b++)
-					assert_int_equal(tm->life_hist->win[i][b], 0);
+					assert_int_equal(win_at(tm, i, b), 0);
 			assert_int_equal(tm->win.m[RTSUP_M_EXEC].count, 0);
 			continue;
 		}
@@ -584,7 +604,7 @@ static void test_model_idle_snapshot_keeps_life_views(void **state)
 	assert_int_equal(p99 / US, 100);
 
 	/* the same bytes again (a parked thread): nothing is computed, the interval empties */
-	assert_int_equal(tm->life_hist->win[RTSUP_M_EXEC][hist_bucket(100 * US)], 20);
+	assert_int_equal(win_at(tm, RTSUP_M_EXEC, hist_bucket(100 * US)), 20);
 	life_exec->p99 = 12345;		/* poison: kept only if not walked again */
 	tm->life.cycles = 777;
 	model_set(tm, &t->cur, 1);
@@ -592,7 +612,7 @@ static void test_model_idle_snapshot_keeps_life_views(void **state)
 	assert_int_equal(tm->life.cycles, 777);
 	assert_int_equal(tm->win.cycles, 0);
 	assert_int_equal(tm->win.m[RTSUP_M_EXEC].count, 0);
-	assert_int_equal(tm->life_hist->win[RTSUP_M_EXEC][hist_bucket(100 * US)], 0);
+	assert_int_equal(win_at(tm, RTSUP_M_EXEC, hist_bucket(100 * US)), 0);
 	tm->life.cycles = 20;
 
 	t->cur.vol_cs++;	/* a switch, no cycle: the counters again, not the percentiles */
@@ -640,12 +660,12 @@ static void test_model_life_hist_wrap(void **state)
 	s->min = 1 * MS;
 	s->max = 1 * MS;
 	model_set(tm, &t->cur, 0);
-	assert_int_equal(tm->life_hist->h[RTSUP_M_PERIOD][b], 0xFFFFFFF0ULL);
+	assert_int_equal(life_at(tm, RTSUP_M_PERIOD, b), 0xFFFFFFF0ULL);
 
 	s->hist[b] = 0x10;	/* 0x20 more: the __u32 wrapped */
 	s->count += 0x20;
 	model_set(tm, &t->cur, 1);
-	assert_int_equal(tm->life_hist->h[RTSUP_M_PERIOD][b], 0x100000010ULL);
+	assert_int_equal(life_at(tm, RTSUP_M_PERIOD, b), 0x100000010ULL);
 	assert_int_equal(tm->win.m[RTSUP_M_PERIOD].count, 0x20);
 
 	/*
@@ -662,8 +682,8 @@ static void test_model_life_hist_wrap(void **state)
 		model_set(tm, &t->cur, i & 1);
 	}
 	want = 0x100000010ULL + 365 * (86400ULL * 1000 - 864000);
-	assert_int_equal(tm->life_hist->h[RTSUP_M_PERIOD][b], want);
-	assert_int_equal(tm->life_hist->h[RTSUP_M_PERIOD][b2], 365 * 864000ULL);
+	assert_int_equal(life_at(tm, RTSUP_M_PERIOD, b), want);
+	assert_int_equal(life_at(tm, RTSUP_M_PERIOD, b2), 365 * 864000ULL);
 	/*
 	 * 1 % at 3 ms: p50 and p99 in the 1 ms bucket, p99.9 at 3 ms. Wrapped
 	 * __u32 counts would put p50 anywhere. (Every value sits at the bucket's
