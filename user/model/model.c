@@ -436,6 +436,7 @@ static int life_add(struct thread_model *tm, const struct rtsup_thread *t,
 {
 	struct life_hist *l = tm->life_hist;
 	int lo[RTSUP_M_NR], hi[RTSUP_M_NR], i, b;
+	bool fresh = !l;
 
 	if (!l && !t->cycles)
 		return -1;
@@ -449,6 +450,12 @@ static int life_add(struct thread_model *tm, const struct rtsup_thread *t,
 	prev = snapshot_base(t, prev);
 	if (!prev)
 		life_reset(l);
+	/* a new lifetime spans all the snapshot holds, counted before this one too */
+	for (i = 0; fresh && prev && i < RTSUP_M_NR; i++) {
+		delta_range(t->m[i].hist, NULL, &lo[i], &hi[i]);
+		l->lo[i] = (__s16)lo[i];
+		l->hi[i] = (__s16)hi[i];
+	}
 	/* no interval until it is written; then where each metric moved, and room */
 	win_clear(l);
 	for (i = 0; i < RTSUP_M_NR; i++) {

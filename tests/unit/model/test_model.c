@@ -638,6 +638,39 @@ static void test_model_idle_snapshot_keeps_life_views(void **state)
 }
 
 /*
+ * What the kernel counted before the thread's first cycle (a snapshot
+ * without cycles keeps no lifetime of its own) is in the lifetime once one
+ * is kept: every view as the kernel's buckets give it.
+ */
+static void test_model_life_holds_counts_before_the_first_cycle(void **state)
+{
+	struct tfx *t = *state;
+	struct model m = { 0 };
+	struct thread_model *tm = model_get(&m, 42, true);
+	struct rtsup_metric_stats *s = &t->cur.m[RTSUP_M_LATENCY];
+	__u32 b = hist_bucket(2 * MS);
+	struct metric_view v;
+	int i;
+
+	assert_non_null(tm);
+	t->cur.first_seen = 7;
+	s->hist[b] = 3;
+	s->count = 3;
+	s->sum = 6 * MS;
+	s->min = s->max = 2 * MS;
+	model_set(tm, &t->cur, 0);
+	assert_null(tm->life_hist);
+	add_cycles(&t->cur, 10, 100 * US, 1);
+	model_set(tm, &t->cur, 1);
+	assert_int_equal(life_at(tm, RTSUP_M_LATENCY, b), 3);
+	for (i = 0; i < RTSUP_M_NR; i++) {
+		metric_view_life(&t->cur.m[i], &v);
+		assert_memory_equal(&tm->life.m[i], &v, sizeof(v));
+	}
+	model_free(&m);
+}
+
+/*
  * A bucket that wraps between two snapshots (0xFFFFFFF0 -> 0x10) adds 0x20
  * to the lifetime count; a year at 1 kHz keeps its percentiles.
  */
@@ -922,6 +955,7 @@ int main(void)
 		TS(test_model_life_hist_wrap),
 		TS(test_model_views_follow_moving_buckets),
 		TS(test_model_idle_snapshot_keeps_life_views),
+		TS(test_model_life_holds_counts_before_the_first_cycle),
 		M(test_model_get_sorted),
 		M(test_model_entries_do_not_move),
 		M(test_model_remove),
