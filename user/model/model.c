@@ -532,6 +532,14 @@ void model_views(struct thread_model *tm, const struct rtsup_thread *t,
 	__u64 h[HIST_BUCKETS];
 	int i;
 
+	/*
+	 * the same bytes as the last snapshot (a parked thread): an empty
+	 * interval, and the lifetime views the last call made from them
+	 */
+	if (prev && !memcmp(prev, t, sizeof(*t))) {
+		model_idle(tm);
+		return;
+	}
 	if (life_add(tm, t, prev)) {	/* no lifetime counts: the kernel's buckets */
 		span_window(t, prev, bank, &tm->win);
 		span_life(t, &tm->life);
@@ -556,11 +564,6 @@ void model_views(struct thread_model *tm, const struct rtsup_thread *t,
 
 void model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank)
 {
-	/* the same bytes as the last snapshot: an empty interval, the same lifetime */
-	if (tm->cur.first_seen && !memcmp(&tm->cur, t, sizeof(*t))) {
-		model_idle(tm);
-		return;
-	}
 	model_views(tm, t, tm->cur.first_seen ? &tm->cur : NULL, bank);
 	tm->cur = *t;
 }

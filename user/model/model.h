@@ -168,8 +168,7 @@ void span_window(const struct rtsup_thread *cur, const struct rtsup_thread *prev
 
 /*
  * model_set - a new snapshot of the thread's kernel entry; its interval
- * view is the change since the previous one (none yet: since the start).
- * A snapshot equal to the last one (a parked thread) costs a compare.
+ * view is the change since the previous one (none yet: since the start)
  */
 void model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank);
 /*
@@ -180,7 +179,11 @@ void model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank
 bool model_life_counts(const struct thread_model *tm, int m, __u64 *h, int *lo, int *hi);
 /* model_win_counts - the same for the last interval's counts */
 bool model_win_counts(const struct thread_model *tm, int m, __u64 *h, int *lo, int *hi);
-/* model_views - the interval (t minus prev, NULL: since the start) and lifetime views */
+/*
+ * model_views - the interval (t minus prev, NULL: since the start) and
+ * lifetime views; prev must be the t of the call before. A t equal to
+ * prev (a parked thread) costs a compare.
+ */
 void model_views(struct thread_model *tm, const struct rtsup_thread *t,
 		 const struct rtsup_thread *prev, __u32 bank);
 /* model_idle - no snapshot this interval: an empty interval view */
