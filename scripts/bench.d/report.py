@@ -677,7 +677,7 @@ def render(r, res, made):
         a("")
         a("`rtsup-loadgen -n 1000 -P 100000 -w 0 -r 1` (1000 SCHED_FIFO threads at 10 Hz) "
           "under `rtsup-trace --pid PID -i 1s` (the table), with `-j`, and as prom: the table and `--prom-textfile` (the service's output); "
-          "\"900 idle\": 100 such threads and 900 more that run one cycle and stay parked "
+          "\"900 idle\": 100 such threads and 900 SCHED_OTHER ones that run one cycle and stay parked "
           "(`-c 1 --hold`, a second `--pid`), as on a robot where most threads wait; CPU time of every rtsup-trace thread from "
           "`/proc/PID/task/*/schedstat` over %.0f s after a 2 s start, RSS from `/proc/PID/status`."
           % med([u["seconds"] for u in us]))
