@@ -448,6 +448,8 @@ static bool *fallback_of(const struct loader *l, const struct options *o, bool a
 {
 	if (l->sys_per && o->sys_hooks == SYS_HOOKS_AUTO)
 		return &sys_per_failed;		/* raw_syscalls, as before */
+	if (at_load && l->sys_per)
+		return NULL;	/* forced per-syscall hooks refused: that is the error */
 	if (l->rt_hook)
 		return &rt_hook_failed;		/* the per-switch read */
 	if (at_load && l->attrs_iter)
