@@ -47,7 +47,9 @@ static void putc1(struct jw *w, char c)
 /* member - the comma before a value and its key (a constant name: no escapes) */
 static void member(struct jw *w, const char *key)
 {
-	if (w->depth > 0) {
+	if (w->depth > JW_DEPTH) {	/* deeper than kept: a comma always (no writer does) */
+		putc1(w, ',');
+	} else if (w->depth > 0) {
 		if (!w->first[w->depth - 1])
 			putc1(w, ',');
 		w->first[w->depth - 1] = false;
