@@ -137,6 +137,13 @@ $(OUT)/rtsup-noise: scripts/noise/noise.c | $(OUT)
 	$(call msg,CC,$@)
 	$(Q)$(CC) $(CFLAGS) $(WARN) $(CPPFLAGS) $< -lpthread -o $@
 
+# A recorded trace of many threads, made up, for the bench's replayed userspace
+$(OUT)/rtsup-synth-trace: scripts/bench.d/synth-trace.c user/sinks/record.c user/sinks/jsonstr.c \
+		user/sinks/errline.c | $(OUT)
+	$(call msg,CC,$@)
+	$(Q)$(CC) $(CFLAGS) $(WARN) $(CPPFLAGS) $(INCLUDES) $(USER_INC) $(LDFLAGS) $^ -ljansson -lz \
+		-o $@
+
 $(OUT)/rtsup-cansim: scripts/cansim/cansim.c | $(OUT)
 	$(call msg,CC,$@)
 	$(Q)$(CC) $(CFLAGS) $(WARN) $(CPPFLAGS) $(LDFLAGS) $< -lpthread -ljansson -o $@
@@ -213,6 +220,8 @@ UNIT_DEPS_test_eventlog := user/model/eventlog.c
 UNIT_DEPS_test_causes := user/model/causes.c user/model/syscalls.c
 UNIT_DEPS_test_histdraw := user/sinks/histdraw.c
 UNIT_DEPS_test_rowcut := user/sinks/rowcut.c
+UNIT_DEPS_test_jsonw := user/sinks/jsonw.c user/sinks/jsonstr.c
+UNIT_LIBS_test_jsonw := -ljansson
 UNIT_DEPS_test_progress := user/sinks/progress.c
 UNIT_DEPS_test_syscalls := user/model/syscalls.c
 UNIT_DEPS_test_syshooks := user/model/syshooks.c user/model/syscalls.c
@@ -399,7 +408,7 @@ deps-arm64:
 	$(Q)scripts/install-deps-arm64
 
 # Overhead against the floor and peer tools; installs the peers first (not in make deps).
-bench: all $(OUT)/rtsup_empty.bpf.o
+bench: all $(OUT)/rtsup_empty.bpf.o $(OUT)/rtsup-synth-trace
 	$(Q)scripts/install-bench-deps
 	$(Q)scripts/bench
 

@@ -552,7 +552,7 @@ def render(r, res, made):
         # the target is the per-syscall hooks'; raw_syscalls' are shown beside
         a("%s %s |" % (what, yes(med(d) * 100 <= T_SYSCALL_PCT) if v == "per" else "shown beside"))
     us = res.get("userspace", [])
-    for mode in ("table", "json", "prom"):
+    for mode in dict.fromkeys(u.get("output", "json") for u in us):
         uu = [u for u in us if u.get("output", "json") == mode]
         if not uu:
             continue
@@ -676,7 +676,9 @@ def render(r, res, made):
         a("## rtsup-trace's own CPU time and memory")
         a("")
         a("`rtsup-loadgen -n 1000 -P 100000 -w 0 -r 1` (1000 SCHED_FIFO threads at 10 Hz) "
-          "under `rtsup-trace --pid PID -i 1s` (the table), with `-j`, and as prom: the table and `--prom-textfile` (the service's output); CPU time of every rtsup-trace thread from "
+          "under `rtsup-trace --pid PID -i 1s` (the table), with `-j`, and as prom: the table and `--prom-textfile` (the service's output); "
+          "\"900 idle\": 100 such threads and 900 SCHED_OTHER ones that run one cycle and stay parked "
+          "(`-c 1 --hold`, a second `--pid`), as on a robot where most threads wait; CPU time of every rtsup-trace thread from "
           "`/proc/PID/task/*/schedstat` over %.0f s after a 2 s start, RSS from `/proc/PID/status`."
           % med([u["seconds"] for u in us]))
         a("")
@@ -688,6 +690,25 @@ def render(r, res, made):
                 "%.0f KiB" % (u["output_bytes"] / 1024 / (u["seconds"] + 2))
                 if u.get("output_bytes") else "-",
                 u["cpu_s"] * 1000, u["cpu_pct"], u["rss_peak_kb"] / 1024))
+        a("")
+
+    rp = res.get("replayed", [])
+    if rp:
+        a("### The same work replayed, without BPF")
+        a("")
+        a("`rtsup-synth-trace` writes a made-up recorded trace of 1000 threads (30 one-second "
+          "intervals; a tenth of the 10 Hz ones miss a deadline, a thirteenth make an mmap, "
+          "every 10 s; one exits) and `rtsup-trace replay` reads it: the model, the checks "
+          "and the output of a live run, without the map read and the kernel's side. CPU "
+          "time (user + system), the least of 3 runs, per thread per interval; reading the "
+          "trace and replaying its cycles is included.")
+        a("")
+        a("| trace | table | `-j` | `-j --json-threads active` |")
+        a("|---|---:|---:|---:|")
+        for name in dict.fromkeys(x["trace"] for x in rp):
+            row = {x["output"]: x["us_per_thread"] for x in rp if x["trace"] == name}
+            a("| %s | %s | %s | %s |" % (name, *("%.2f µs" % row[o] if o in row else "-"
+                                                 for o in ("table", "json", "json active"))))
         a("")
 
     # ------------------------------------------------------------ guest

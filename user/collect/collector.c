@@ -493,7 +493,7 @@ static bool idle_in_window(const struct thread_model *tm)
 /*
  * thread_gone - the thread does not exist any more. The start-up scan can
  * find a thread already past its exit tracepoint: no exit event will mark
- * its entry, so an idle entry is checked against the kernel.
+ * its entry, so an idle entry is checked against the kernel (see listed).
  */
 static bool thread_gone(__u32 tgid, __u32 tid)
 {
@@ -515,6 +515,17 @@ static void rt_left_by_read(struct collector *c, struct thread_model *tm)
 	    rt_on_policy(tm->policy, &tm->cur) != RT_LET_GO)
 		return;
 	rt_mark_left(&tm->cur, !bpf_map_lookup_elem(bpf_map__fd(c->skel->maps.tgids), &tgid, &one));
+}
+
+/*
+ * listed - the sample's task iterator found the thread: it was there after
+ * the hooks were attached, so an exit since is marked by the exit hook,
+ * and an idle thread needs no thread_gone syscall (900 parked threads made
+ * 900 tgkill calls a second)
+ */
+static bool listed(const struct collector *c, __u32 tid)
+{
+	return task_attrs_of(&c->attrs, tid) != NULL;
 }
 
 /* take - one thread's new kernel snapshot into the model */
@@ -545,7 +556,7 @@ static int take(struct collector *c, __u32 tid, const struct rtsup_thread *t)
 	}
 	tm->seen = true;
 	tm->alive = !thread_dead(false, true, t->exited) &&
-		    !(idle_in_window(tm) && thread_gone(t->tgid, tid));
+		    !(idle_in_window(tm) && !listed(c, tid) && thread_gone(t->tgid, tid));
 	if (tm->alive)
 		refresh_identity(c, tm);
 	else

@@ -438,6 +438,33 @@ static bool sys_per_failed;
 /* the same for the task iterator (an old kernel): the collector asks per thread */
 static bool attrs_iter_failed;
 
+/*
+ * fallback_of - the optional piece to go without when loading (or, with
+ * !at_load, the floor's start) failed, in the order they are given up;
+ * NULL: none is left and the error is final. Each flag is set once, so a
+ * start is tried at most four times.
+ */
+static bool *fallback_of(const struct loader *l, const struct options *o, bool at_load)
+{
+	if (l->sys_per && o->sys_hooks == SYS_HOOKS_AUTO)
+		return &sys_per_failed;		/* raw_syscalls, as before */
+	if (at_load && l->sys_per)
+		return NULL;	/* forced per-syscall hooks refused: that is the error */
+	if (l->rt_hook)
+		return &rt_hook_failed;		/* the per-switch read */
+	if (at_load && l->attrs_iter)
+		return &attrs_iter_failed;	/* the collector asks per thread */
+	return NULL;
+}
+
+/* start_again_without - stop, give up the piece the kernel refused, start again */
+static int start_again_without(struct loader *l, const struct options *o, bool *piece)
+{
+	loader_stop(l);
+	*piece = true;
+	return loader_start(l, o);
+}
+
 /* has_task_pt_regs - bpf_task_pt_regs (5.15)? Probed once: a start may retry */
 static bool has_task_pt_regs(void)
 {
@@ -509,7 +536,7 @@ int loader_start(struct loader *l, const struct options *o)
 	struct rtsup_bpf *s;
 	struct bpf_program *p;
 	struct btf *kbtf;
-	bool stolen;
+	bool stolen, *drop;
 	int err, i;
 
 	memset(l, 0, sizeof(*l));
@@ -612,28 +639,16 @@ int loader_start(struct loader *l, const struct options *o)
 		bpf_map__set_max_entries(s->maps.cycles, 4 << 20);
 
 	err = rtsup_bpf__load(s);
-	if (err && l->sys_per && o->sys_hooks == SYS_HOOKS_AUTO) {
-		/* fentry refused (a security module: EPERM): raw_syscalls, as before */
-		loader_stop(l);
-		sys_per_failed = true;
-		return loader_start(l, o);
-	}
+	/* fentry refused (a security module: EPERM), or the hook's fault or
+	 * not: the next try without it says which */
+	drop = err ? fallback_of(l, o, true) : NULL;
+	if (drop)
+		return start_again_without(l, o, drop);
 	if (err && l->sys_per) {
 		fprintf(stderr, "rtsup-trace: --syscall-hooks per-syscall: the kernel refuses "
 				"fentry programs on syscalls: %s (-v says why; auto falls back "
 				"to raw_syscalls)\n", strerror(-err));
 		goto fail;
-	}
-	if (err && l->rt_hook) {
-		/* the hook's fault or not: the second try without it says which */
-		loader_stop(l);
-		rt_hook_failed = true;
-		return loader_start(l, o);
-	}
-	if (err && l->attrs_iter) {
-		loader_stop(l);
-		attrs_iter_failed = true;
-		return loader_start(l, o);
 	}
 	if (err == -EPERM) {
 		/* we hold the capabilities (checked above), yet the kernel says no:
@@ -664,18 +679,12 @@ int loader_start(struct loader *l, const struct options *o)
 		}
 	}
 	err = rtsup_bpf__attach(s);
-	if (err && l->sys_per && o->sys_hooks == SYS_HOOKS_AUTO) {
-		loader_stop(l);
-		sys_per_failed = true;
-		return loader_start(l, o);
-	}
+	if (err && l->sys_per && o->sys_hooks == SYS_HOOKS_AUTO)
+		return start_again_without(l, o, &sys_per_failed);
 	if (!err && l->rt_hook && !o->floor) {
 		s->links.rt_setsched = bpf_program__attach(s->progs.rt_setsched);
-		if (!s->links.rt_setsched) {
-			loader_stop(l);
-			rt_hook_failed = true;
-			return loader_start(l, o);
-		}
+		if (!s->links.rt_setsched)
+			return start_again_without(l, o, &rt_hook_failed);
 	}
 	/* without it the collector asks the kernel thread by thread */
 	if (!err && l->attrs_iter) {
@@ -685,14 +694,9 @@ int loader_start(struct loader *l, const struct options *o)
 	if (!err && o->floor) {
 		err = floor_start(l, o);
 		/* the floor falls back as ours does: its set is the one we would run */
-		bool *drop = l->sys_per && o->sys_hooks == SYS_HOOKS_AUTO ? &sys_per_failed :
-			     l->rt_hook ? &rt_hook_failed : NULL;
-
-		if (err && drop) {
-			loader_stop(l);
-			*drop = true;
-			return loader_start(l, o);
-		}
+		drop = err ? fallback_of(l, o, false) : NULL;
+		if (drop)
+			return start_again_without(l, o, drop);
 	}
 	if (err) {
 		fprintf(stderr, "rtsup-trace: attaching the BPF programs failed: %s\n",

@@ -13,6 +13,16 @@ void status_reset(struct status *s)
 	s->check = NULL;
 }
 
+void status_copy(struct status *dst, const struct status *src)
+{
+	dst->level = src->level;
+	dst->nmsg = src->nmsg;
+	dst->dropped = src->dropped;
+	dst->check = src->check;
+	memcpy(dst->msg, src->msg, (size_t)src->nmsg * sizeof(src->msg[0]));
+	memcpy(dst->fact, src->fact, (size_t)src->nmsg * sizeof(src->fact[0]));
+}
+
 void status_check(struct status *s, const char *check)
 {
 	s->check = check;

@@ -46,6 +46,11 @@ struct status {
 
 /* status_reset - OK, no messages */
 void status_reset(struct status *s);
+/*
+ * status_copy - *src into *dst, the messages it has only: a thread's status
+ * is copied twice an interval, and most have none (the whole is 2 KiB)
+ */
+void status_copy(struct status *dst, const struct status *src);
 /* status_check - the messages added from now on are this check's */
 void status_check(struct status *s, const char *check);
 /* status_count - a number of the last message, for machines (JSON "counts") */

@@ -219,8 +219,8 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 		in.why_win = tm->why_win[0] ? tm->why_win : NULL;
 		in.why_life = tm->why_life[0] ? tm->why_life : NULL;
 		check_thread(&in, &st);
-		old = tm->st;
-		tm->st = st;
+		status_copy(&old, &tm->st);
+		status_copy(&tm->st, &st);
 		tm->level_changed = st.level != old.level;
 		component_name(tm, comp, sizeof(comp));
 		judge(s, comp, &old, &st, &tm->worst, now, tm);

@@ -349,47 +349,99 @@ void span_window(const struct rtsup_thread *cur, const struct rtsup_thread *prev
 		metric_view_window(&cur->m[i], prev ? &prev->m[i] : NULL, bank, &s->m[i]);
 }
 
-/* life_reset - every count 0 */
+/* win_clear - the last interval's counts gone: every span empty */
+static void win_clear(struct life_hist *l)
+{
+	int i;
+
+	for (i = 0; i < RTSUP_M_NR; i++) {
+		l->wlo[i] = HIST_BUCKETS;
+		l->whi[i] = -1;
+	}
+}
+
+/* life_reset - every count 0: no wrap, empty spans (the interval buffers stay) */
 static void life_reset(struct life_hist *l)
 {
 	int i;
 
-	memset(l, 0, sizeof(*l));
+	free(l->wraps);
+	l->wraps = NULL;
 	for (i = 0; i < RTSUP_M_NR; i++) {
-		l->lo[i] = l->wlo[i] = HIST_BUCKETS;
-		l->hi[i] = l->whi[i] = -1;
+		l->lo[i] = HIST_BUCKETS;
+		l->hi[i] = -1;
 	}
+	win_clear(l);
 }
 
-/* win_clear - the last interval's counts of metric i back to 0 */
-static void win_clear(struct life_hist *l, int i)
+static void life_free(struct life_hist *l)
 {
-	if (l->wlo[i] <= l->whi[i])
-		memset(&l->win[i][l->wlo[i]], 0,
-		       (size_t)(l->whi[i] - l->wlo[i] + 1) * sizeof(l->win[i][0]));
-	l->wlo[i] = HIST_BUCKETS;
-	l->whi[i] = -1;
+	int i;
+
+	if (!l)
+		return;
+	free(l->wraps);
+	for (i = 0; i < RTSUP_M_NR; i++)
+		free(l->win[i]);
+	free(l);
+}
+
+/* win_room - room for n interval counts of metric i; -1 when out of memory */
+static int win_room(struct life_hist *l, int i, int n)
+{
+	/* 8 at least: a thread's interval moves within a few buckets */
+	int cap = n < 8 ? 8 : n;
+	__u32 *w;
+
+	if (n <= l->wcap[i])
+		return 0;
+	w = realloc(l->win[i], (size_t)cap * sizeof(*w));
+	if (!w)
+		return -1;
+	l->win[i] = w;
+	l->wcap[i] = (__u16)cap;
+	return 0;
+}
+
+/* count_wrap - bucket b of metric i wrapped; lost when out of memory (said above) */
+static void count_wrap(struct life_hist *l, int i, int b)
+{
+	if (!l->wraps)
+		l->wraps = calloc(RTSUP_M_NR, sizeof(*l->wraps));
+	if (l->wraps)
+		l->wraps[i][b]++;
+}
+
+/* life_counts - the lifetime's counts of metric i over its span, kern: the snapshot's */
+static void life_counts(const struct life_hist *l, int i, const __u32 *kern, __u64 *h)
+{
+	int b;
+
+	for (b = l->lo[i]; b <= l->hi[i]; b++)
+		h[b] = (l->wraps ? (__u64)l->wraps[i][b] << 32 : 0) | kern[b];
 }
 
 /*
- * life_add - add the interval's bucket counts to the u64 lifetime ones.
- * The kernel's __u32 buckets wrap after 2^32 values (49 days at 1 kHz in
- * one bucket); a difference of two snapshots is right modulo 2^32 as long
- * as an interval holds fewer than 2^32 values per bucket, so the sums are
- * right for a lifetime. Returns -1 when there is none: a thread without
- * cycles has empty buckets and needs no memory, and when out of memory the
- * kernel's buckets are used.
+ * life_add - the interval's counts (t minus prev), and the lifetime's span
+ * and wraps. The kernel's __u32 buckets wrap after 2^32 values (49 days at
+ * 1 kHz in one bucket); a difference of two snapshots is right modulo 2^32
+ * as long as an interval holds fewer than 2^32 values per bucket, and a
+ * count below the last one is a wrap (the kernel only adds, until a
+ * restart, which has no prev). Returns -1 when there is none: a thread
+ * without cycles has empty buckets and needs no memory, and when out of
+ * memory the kernel's buckets are used (a wrap in that interval is lost).
  */
 static int life_add(struct thread_model *tm, const struct rtsup_thread *t,
 		    const struct rtsup_thread *prev)
 {
 	struct life_hist *l = tm->life_hist;
-	int i, b, lo, hi;
+	int lo[RTSUP_M_NR], hi[RTSUP_M_NR], i, b;
+	bool fresh = !l;
 
 	if (!l && !t->cycles)
 		return -1;
 	if (!l) {
-		l = tm->life_hist = malloc(sizeof(*l));
+		l = tm->life_hist = calloc(1, sizeof(*l));
 		if (!l)
 			return -1;
 		life_reset(l);
@@ -398,37 +450,96 @@ static int life_add(struct thread_model *tm, const struct rtsup_thread *t,
 	prev = snapshot_base(t, prev);
 	if (!prev)
 		life_reset(l);
+	/* a new lifetime spans all the snapshot holds, counted before this one too */
+	for (i = 0; fresh && prev && i < RTSUP_M_NR; i++) {
+		delta_range(t->m[i].hist, NULL, &lo[i], &hi[i]);
+		l->lo[i] = (__s16)lo[i];
+		l->hi[i] = (__s16)hi[i];
+	}
+	/* no interval until it is written; then where each metric moved, and room */
+	win_clear(l);
+	for (i = 0; i < RTSUP_M_NR; i++) {
+		delta_range(t->m[i].hist, prev ? prev->m[i].hist : NULL, &lo[i], &hi[i]);
+		if (lo[i] <= hi[i] && win_room(l, i, hi[i] - lo[i] + 1))
+			return -1;
+	}
 	for (i = 0; i < RTSUP_M_NR; i++) {
 		const __u32 *c = t->m[i].hist, *p = prev ? prev->m[i].hist : NULL;
 
-		win_clear(l, i);
-		delta_range(c, p, &lo, &hi);
-		for (b = lo; b <= hi; b++) {
-			__u32 d = c[b] - (p ? p[b] : 0);	/* modulo 2^32, above */
-
-			l->h[i][b] += d;
-			l->win[i][b] = d;
-		}
-		if (lo > hi)
+		if (lo[i] > hi[i])
 			continue;
-		l->wlo[i] = (__s16)lo;
-		l->whi[i] = (__s16)hi;
-		if (lo < l->lo[i])
-			l->lo[i] = (__s16)lo;
-		if (hi > l->hi[i])
-			l->hi[i] = (__s16)hi;
+		for (b = lo[i]; b <= hi[i]; b++) {
+			l->win[i][b - lo[i]] = c[b] - (p ? p[b] : 0);	/* modulo 2^32 */
+			if (p && c[b] < p[b])
+				count_wrap(l, i, b);
+		}
+		l->wlo[i] = (__s16)lo[i];
+		l->whi[i] = (__s16)hi[i];
+		if (lo[i] < l->lo[i])
+			l->lo[i] = (__s16)lo[i];
+		if (hi[i] > l->hi[i])
+			l->hi[i] = (__s16)hi[i];
 	}
 	return 0;
+}
+
+bool model_life_counts(const struct thread_model *tm, int m, __u64 *h, int *lo, int *hi)
+{
+	const struct life_hist *l = tm->life_hist;
+
+	if (!l)
+		return false;
+	*lo = l->lo[m];
+	*hi = l->hi[m];
+	life_counts(l, m, tm->cur.m[m].hist, h);
+	return true;
+}
+
+bool model_win_counts(const struct thread_model *tm, int m, __u64 *h, int *lo, int *hi)
+{
+	const struct life_hist *l = tm->life_hist;
+	int b;
+
+	if (!l)
+		return false;
+	*lo = l->wlo[m];
+	*hi = l->whi[m];
+	for (b = *lo; b <= *hi; b++)
+		h[b] = l->win[m][b - *lo];
+	return true;
+}
+
+/*
+ * life_view_kept - the lifetime view of metric i is the one the last call
+ * computed: its inputs did not move (the scalars the view reads, and no
+ * bucket: life_add just wrote the interval's span). An idle thread's
+ * lifetime percentiles are not walked again every interval.
+ */
+static bool life_view_kept(const struct life_hist *l, const struct rtsup_metric_stats *cur,
+			   const struct rtsup_metric_stats *base, int i)
+{
+	return l->wlo[i] > l->whi[i] && cur->count == base->count && cur->sum == base->sum &&
+	       cur->min == base->min && cur->max == base->max && cur->ewma == base->ewma;
 }
 
 void model_views(struct thread_model *tm, const struct rtsup_thread *t,
 		 const struct rtsup_thread *prev, __u32 bank)
 {
+	/* the lifetime views were computed from life_hist by the last call */
+	bool had_life = tm->life_hist != NULL;
 	const struct rtsup_thread *base;
 	struct life_hist *l;
 	__u64 h[HIST_BUCKETS];
 	int i;
 
+	/*
+	 * the same bytes as the last snapshot (a parked thread): an empty
+	 * interval, and the lifetime views the last call made from them
+	 */
+	if (prev && !memcmp(prev, t, sizeof(*t))) {
+		model_idle(tm);
+		return;
+	}
 	if (life_add(tm, t, prev)) {	/* no lifetime counts: the kernel's buckets */
 		span_window(t, prev, bank, &tm->win);
 		span_life(t, &tm->life);
@@ -441,10 +552,13 @@ void model_views(struct thread_model *tm, const struct rtsup_thread *t,
 	for (i = 0; i < RTSUP_M_NR; i++) {
 		/* the interval's counts, just written by life_add */
 		for (int b = l->wlo[i]; b <= l->whi[i]; b++)
-			h[b] = l->win[i][b];
+			h[b] = l->win[i][b - l->wlo[i]];
 		window_counts(&t->m[i], base ? &base->m[i] : NULL, bank, h, l->wlo[i], l->whi[i],
 			      &tm->win.m[i]);
-		view_counts(&t->m[i], l->h[i], l->lo[i], l->hi[i], &tm->life.m[i]);
+		if (had_life && base && life_view_kept(l, &t->m[i], &base->m[i], i))
+			continue;
+		life_counts(l, i, t->m[i].hist, h);
+		view_counts(&t->m[i], h, l->lo[i], l->hi[i], &tm->life.m[i]);
 	}
 }
 
@@ -456,12 +570,9 @@ void model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank
 
 void model_idle(struct thread_model *tm)
 {
-	int i;
-
 	memset(&tm->win, 0, sizeof(tm->win));
 	if (tm->life_hist)
-		for (i = 0; i < RTSUP_M_NR; i++)
-			win_clear(tm->life_hist, i);
+		win_clear(tm->life_hist);
 }
 
 /* find - binary search in the tid-sorted array */
@@ -555,7 +666,7 @@ struct thread_model *model_get(struct model *m, __u32 tid, bool create)
 static void thread_free(struct thread_model *tm)
 {
 	free(tm->snap);
-	free(tm->life_hist);
+	life_free(tm->life_hist);
 	free(tm);
 }
 

@@ -13,16 +13,22 @@
 #include "judge/status.h"
 
 /*
- * Lifetime bucket counts of a thread's metrics, summed from interval
- * differences: the kernel's __u32 buckets wrap, these do not. And the last
- * interval's counts, for the histograms of an interval (--hist-interval).
- * Every count outside [lo, hi] (of h) and [wlo, whi] (of win) is 0: an
- * interval touches a few of the 280 buckets, and the model's work per
- * thread is kept to those (empty: lo > hi).
+ * What the model adds to the kernel's buckets of a thread's metrics:
+ * - the lifetime's counts are the kernel's of the last snapshot (cur: since
+ *   the kernel last restarted the statistics, as the lifetime) plus 2^32
+ *   each time a __u32 bucket wrapped (wraps: NULL until a first wrap, 49
+ *   days at 1 kHz in one bucket), so they never wrap;
+ * - the last interval's counts, for its percentiles and --hist-interval,
+ *   kept for [wlo, whi] only (win[i][0] is bucket wlo[i]).
+ * Every count outside [lo, hi] (lifetime) and [wlo, whi] (interval) is 0:
+ * an interval touches a few of the 280 buckets, and the model's work per
+ * thread is kept to those (empty: lo > hi). Read them with
+ * model_life_counts and model_win_counts.
  */
 struct life_hist {
-	__u64 h[RTSUP_M_NR][HIST_BUCKETS];
-	__u32 win[RTSUP_M_NR][HIST_BUCKETS];
+	__u32 (*wraps)[HIST_BUCKETS];	/* [RTSUP_M_NR] */
+	__u32 *win[RTSUP_M_NR];
+	__u16 wcap[RTSUP_M_NR];
 	__s16 lo[RTSUP_M_NR], hi[RTSUP_M_NR];
 	__s16 wlo[RTSUP_M_NR], whi[RTSUP_M_NR];
 };
@@ -165,7 +171,19 @@ void span_window(const struct rtsup_thread *cur, const struct rtsup_thread *prev
  * view is the change since the previous one (none yet: since the start)
  */
 void model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank);
-/* model_views - the interval (t minus prev, NULL: since the start) and lifetime views */
+/*
+ * model_life_counts - metric m's lifetime bucket counts into h[*lo..*hi]
+ * (every other count is 0, and h is not written there); false when the
+ * model keeps none (no cycle yet, out of memory): the kernel's are it
+ */
+bool model_life_counts(const struct thread_model *tm, int m, __u64 *h, int *lo, int *hi);
+/* model_win_counts - the same for the last interval's counts */
+bool model_win_counts(const struct thread_model *tm, int m, __u64 *h, int *lo, int *hi);
+/*
+ * model_views - the interval (t minus prev, NULL: since the start) and
+ * lifetime views; prev must be the t of the call before. A t equal to
+ * prev (a parked thread) costs a compare.
+ */
 void model_views(struct thread_model *tm, const struct rtsup_thread *t,
 		 const struct rtsup_thread *prev, __u32 bank);
 /* model_idle - no snapshot this interval: an empty interval view */

@@ -8,8 +8,7 @@
 #include <string.h>
 #include "sinks/jsonstr.h"
 
-/* utf8_seq - length of the valid UTF-8 sequence at s (n bytes left), 0 if invalid */
-static size_t utf8_seq(const unsigned char *s, size_t n)
+size_t json_utf8_seq(const unsigned char *s, size_t n)
 {
 	unsigned int c = s[0], cp;
 	size_t len, i;
@@ -50,7 +49,7 @@ json_t *json_str(const char *s, size_t max)
 	if (!buf)
 		return NULL;
 	for (i = 0; i < n; i += k) {
-		k = utf8_seq((const unsigned char *)s + i, n - i);
+		k = json_utf8_seq((const unsigned char *)s + i, n - i);
 		if (k) {
 			memcpy(buf + o, s + i, k);
 			o += k;

@@ -6,6 +6,8 @@
 #include <stddef.h>
 #include <jansson.h>
 
+/* json_utf8_seq - length of the valid UTF-8 sequence at s (n bytes left), 0 if invalid */
+size_t json_utf8_seq(const unsigned char *s, size_t n);
 /* json_str - a JSON string of s (at most max bytes), invalid UTF-8 as U+FFFD */
 json_t *json_str(const char *s, size_t max);
 

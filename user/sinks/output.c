@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
 /* output.c - table and JSON sinks */
+#include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
 #include <jansson.h>
+#include "sinks/jsonw.h"
 #include "sinks/output.h"
 #include "sinks/output_hist.h"
 #include "model/causes.h"
@@ -52,69 +55,6 @@ static void fmt_time(const struct collector *c, __u64 mono, char *buf, size_t le
 }
 
 /* ---- JSON ---- */
-
-/* json_metric - one metric view */
-static json_t *json_metric(const struct metric_view *v)
-{
-	if (!v->count)
-		return json_pack("{s:I}", "count", (json_int_t)0);
-	return json_pack("{s:I,s:I,s:I,s:f,s:f,s:I,s:I,s:I}", "count", (json_int_t)v->count,
-			 "min", (json_int_t)v->min, "max", (json_int_t)v->max, "mean", v->mean,
-			 "ewma", v->ewma, "p50", (json_int_t)v->p50, "p99", (json_int_t)v->p99,
-			 "p999", (json_int_t)v->p999);
-}
-
-/* json_unsafe - RT-unsafe counts by reason */
-static json_t *json_unsafe(const __u64 *n)
-{
-	json_t *u = json_object();
-	int i;
-
-	for (i = 0; i < RTSUP_U_NR; i++)
-		json_object_set_new(u, unsafe_reason_name(i), json_integer(n[i]));
-	return u;
-}
-
-/* json_span - counters and metrics over one span */
-static json_t *json_span(const struct span_view *s, const struct thread_model *tm,
-			 bool window)
-{
-	json_t *o = json_object(), *u = json_unsafe(s->unsafe), *sys = json_object();
-	int i;
-
-	json_object_set_new(o, "cycles", json_integer(s->cycles));
-	json_object_set_new(o, "deadline_misses", json_integer(s->misses));
-	json_object_set_new(o, "overruns", json_integer(s->overruns));
-	for (i = 0; i < RTSUP_M_NR; i++)
-		json_object_set_new(o, metric_name(i), json_metric(&s->m[i]));
-	json_object_set_new(u, "total", json_integer(s->unsafe_total));
-	json_object_set_new(o, "unsafe", u);
-	for (i = 0; i < tm->nsys; i++) {
-		const char *name = syscall_name(tm->sys[i].nr);
-		__u64 n = tm->sys[i].total - (window ? tm->sys[i].prev : 0);
-		char buf[16];
-
-		if (!name) {
-			snprintf(buf, sizeof(buf), "sys_%d", tm->sys[i].nr);
-			name = buf;
-		}
-		if (n)
-			json_object_set_new(sys, name, json_integer(n));
-	}
-	json_object_set_new(o, "unsafe_syscalls", sys);
-	json_object_set_new(o, "context_switches",
-			    json_pack("{s:I,s:I,s:I}", "voluntary", (json_int_t)s->vol_cs,
-				      "involuntary", (json_int_t)s->invol_cs,
-				      "unseen_switch_ins", (json_int_t)s->unseen_in));
-	json_object_set_new(o, "page_faults",
-			    json_pack("{s:I,s:I}", "minor", (json_int_t)s->minflt,
-				      "major", (json_int_t)s->majflt));
-	json_object_set_new(o, "migrations", json_integer(s->migrations));
-	json_object_set_new(o, "syscalls", json_integer(s->syscalls));
-	json_object_set_new(o, "compat_syscalls", json_integer(s->compat_sys));
-	json_object_set_new(o, "signals", json_integer(s->signals));
-	return o;
-}
 
 /* json_checks - per message, for machines: check, level, text and numbers */
 static json_t *json_checks(const struct status_fact *f, int n, const char *const *text)
@@ -240,50 +180,178 @@ static json_t *json_causes(const struct causes *cs, __u32 tid, __u32 self)
 	return a;
 }
 
-/* json_thread - identity of a thread plus the requested spans */
-static json_t *json_thread(const struct collector *c, const struct supervisor *sv,
-			   const struct thread_model *tm, bool window)
+/*
+ * ---- A thread, written straight (jsonw.h): every thread goes out every
+ * interval, and built as jansson trees that was most of -j's cost ----
+ */
+
+/* jw_metric - one metric view */
+static void jw_metric(struct jw *w, const char *key, const struct metric_view *v)
+{
+	jw_obj(w, key);
+	jw_int(w, "count", (long long)v->count);
+	if (v->count) {
+		jw_int(w, "min", (long long)v->min);
+		jw_int(w, "max", (long long)v->max);
+		jw_ns(w, "mean", v->mean);
+		/* the kernel's fixed point, exactly */
+		jw_fixed(w, "ewma", llround(v->ewma * (1 << RTSUP_EWMA_SHIFT)), RTSUP_EWMA_SHIFT);
+		jw_int(w, "p50", (long long)v->p50);
+		jw_int(w, "p99", (long long)v->p99);
+		jw_int(w, "p999", (long long)v->p999);
+	}
+	jw_end_obj(w);
+}
+
+/* jw_unsafe - RT-unsafe counts by reason, and their total when given */
+static void jw_unsafe(struct jw *w, const char *key, const __u64 *n, const __u64 *total)
+{
+	int i;
+
+	jw_obj(w, key);
+	for (i = 0; i < RTSUP_U_NR; i++)
+		jw_int(w, unsafe_reason_name(i), (long long)n[i]);
+	if (total)
+		jw_int(w, "total", (long long)*total);
+	jw_end_obj(w);
+}
+
+/* jw_span - counters and metrics over one span, left open for causes and hist */
+static void jw_span(struct jw *w, const char *key, const struct span_view *s,
+		    const struct thread_model *tm, bool window)
+{
+	char buf[16];
+	int i;
+
+	jw_obj(w, key);
+	jw_int(w, "cycles", (long long)s->cycles);
+	jw_int(w, "deadline_misses", (long long)s->misses);
+	jw_int(w, "overruns", (long long)s->overruns);
+	for (i = 0; i < RTSUP_M_NR; i++)
+		jw_metric(w, metric_name(i), &s->m[i]);
+	jw_unsafe(w, "unsafe", s->unsafe, &s->unsafe_total);
+	jw_obj(w, "unsafe_syscalls");
+	for (i = 0; i < tm->nsys; i++) {
+		const char *name = syscall_name(tm->sys[i].nr);
+		__u64 n = tm->sys[i].total - (window ? tm->sys[i].prev : 0);
+
+		if (!name) {
+			snprintf(buf, sizeof(buf), "sys_%d", tm->sys[i].nr);
+			name = buf;
+		}
+		if (n)
+			jw_int(w, name, (long long)n);
+	}
+	jw_end_obj(w);
+	jw_obj(w, "context_switches");
+	jw_int(w, "voluntary", (long long)s->vol_cs);
+	jw_int(w, "involuntary", (long long)s->invol_cs);
+	jw_int(w, "unseen_switch_ins", (long long)s->unseen_in);
+	jw_end_obj(w);
+	jw_obj(w, "page_faults");
+	jw_int(w, "minor", (long long)s->minflt);
+	jw_int(w, "major", (long long)s->majflt);
+	jw_end_obj(w);
+	jw_int(w, "migrations", (long long)s->migrations);
+	jw_int(w, "syscalls", (long long)s->syscalls);
+	jw_int(w, "compat_syscalls", (long long)s->compat_sys);
+	jw_int(w, "signals", (long long)s->signals);
+}
+
+/* jw_status - a thread's level and messages, as json_status writes a component's */
+static void jw_status(struct jw *w, const struct status *st)
+{
+	int i, j;
+
+	jw_obj(w, "status");
+	jw_str(w, "level", level_name(st->level), SIZE_MAX);
+	jw_arr(w, "messages");
+	for (i = 0; i < st->nmsg; i++)
+		jw_str(w, NULL, st->msg[i], sizeof(st->msg[i]));
+	jw_end_arr(w);
+	jw_arr(w, "checks");
+	for (i = 0; i < st->nmsg; i++) {
+		const struct status_fact *f = &st->fact[i];
+
+		jw_obj(w, NULL);
+		jw_str(w, "check", f->check, SIZE_MAX);
+		jw_str(w, "level", level_name(f->level), SIZE_MAX);
+		jw_str(w, "text", st->msg[i], sizeof(st->msg[i]));
+		jw_obj(w, "counts");
+		for (j = 0; j < f->ncounts; j++)
+			jw_int(w, f->counts[j].key, (long long)f->counts[j].val);
+		jw_end_obj(w);
+		jw_end_obj(w);
+	}
+	jw_end_arr(w);
+	jw_end_obj(w);
+}
+
+/* jw_span_tail - a span's deadline misses by cause and --hist, then its end */
+static void jw_span_tail(struct jw *w, const struct collector *c,
+			 const struct thread_model *tm, bool window)
+{
+	const struct causes *cs = window ? &c->causes_win : &c->causes_life;
+	size_t n;
+
+	/* deadline misses by cause: the interval's, or the run's in the summary */
+	if (causes_of(cs, tm->tid, &n) && n) {
+		jw_json(w, "causes", json_causes(cs, tm->tid, self_pid(c)));
+	} else {
+		jw_arr(w, "causes");
+		jw_end_arr(w);
+	}
+	/* --hist: the summary's lifetime ones, and each interval's with --hist-interval */
+	if (c->o->hist && hist_shown(tm) && (!window || c->o->hist_interval))
+		jw_json(w, "hist", hist_json(tm, c->o->hist, window));
+	jw_end_obj(w);
+}
+
+/* jw_thread - identity of a thread plus the requested spans */
+static void jw_thread(struct jw *w, const struct collector *c, const struct supervisor *sv,
+		      const struct thread_model *tm, bool window)
 {
 	static const char *const modes[] = { "none", "activation", "delimiter" };
-	json_t *o;
 
-	o = json_pack("{s:i,s:i,s:s,s:s,s:i,s:s,s:b,s:s}", "tid", tm->tid, "tgid", tm->tgid,
-		      "comm", tm->comm, "policy", policy_name(tm->policy), "prio", tm->prio,
-		      "cpus", tm->cpus[0] ? tm->cpus : "-", "alive", tm->alive, "mode",
-		      modes[tm->cur.cs.mode < 3 ? tm->cur.cs.mode : 0]);
+	jw_obj(w, NULL);
+	jw_int(w, "tid", tm->tid);
+	jw_int(w, "tgid", tm->tgid);
+	jw_str(w, "comm", tm->comm, sizeof(tm->comm));
+	jw_str(w, "policy", policy_name(tm->policy), SIZE_MAX);
+	jw_int(w, "prio", tm->prio);
+	jw_str(w, "cpus", tm->cpus[0] ? tm->cpus : "-", sizeof(tm->cpus));
+	jw_bool(w, "alive", tm->alive);
+	jw_str(w, "mode", modes[tm->cur.cs.mode < 3 ? tm->cur.cs.mode : 0], SIZE_MAX);
 	if (tm->cur.exited) {
-		json_object_set_new(o, "exit_mid_cycle", json_boolean(tm->cur.exit_mid_cycle));
-		json_object_set_new(o, "exit_code", json_integer(tm->cur.exit_code));
-		json_object_set_new(o, "process_ended", json_boolean(tm->cur.exit_group));
+		jw_bool(w, "exit_mid_cycle", tm->cur.exit_mid_cycle);
+		jw_int(w, "exit_code", tm->cur.exit_code);
+		jw_bool(w, "process_ended", tm->cur.exit_group);
 		/* the teardown inside the cut cycle, kept out of the totals */
 		if (tm->cur.exit_mid_cycle)
-			json_object_set_new(o, "exit_cycle_unsafe",
-					    json_unsafe(tm->cur.exit_unsafe));
+			jw_unsafe(w, "exit_cycle_unsafe", tm->cur.exit_unsafe, NULL);
 	}
 	/* --rt let it go: it left RT (rtfollow.h) */
 	if (tm->cur.rt & RTSUP_RT_LEFT)
-		json_object_set_new(o, "left_rt", json_true());
-	json_object_set_new(o, "process", json_string(tm->pcomm));
-	json_object_set_new(o, "kernel_thread", json_boolean(tm->kthread));
-	json_object_set_new(o, "status", json_status(&tm->st));
-	json_object_set_new(o, "worst_level", json_string(level_name(tm->worst)));
+		jw_bool(w, "left_rt", true);
+	jw_str(w, "process", tm->pcomm, sizeof(tm->pcomm));
+	jw_bool(w, "kernel_thread", tm->kthread);
+	jw_status(w, &tm->st);
+	jw_str(w, "worst_level", level_name(tm->worst), SIZE_MAX);
 	if (tm->rule >= 0 && tm->rule_gen == sv->gen)
-		json_object_set_new(o, "rule", json_string(supervise_rule(sv, tm)->name));
-	if (window)
-		json_object_set_new(o, "interval", json_span(&tm->win, tm, true));
-	json_object_set_new(o, "total", json_span(&tm->life, tm, false));
+		jw_str(w, "rule", supervise_rule(sv, tm)->name, SIZE_MAX);
+	if (window) {
+		jw_span(w, "interval", &tm->win, tm, true);
+		jw_span_tail(w, c, tm, true);
+	}
+	jw_span(w, "total", &tm->life, tm, false);
+	if (!window)
+		jw_span_tail(w, c, tm, false);
+	else
+		jw_end_obj(w);
 	/* --stacks: where in the code its RT-unsafe events came from */
 	if (stacks_shown(c))
-		json_object_set_new(o, "stacks", stacks_json(&c->stacks, tm->tid, window));
-	/* deadline misses by cause: the interval's, or the run's in the summary */
-	json_object_set_new(json_object_get(o, window ? "interval" : "total"), "causes",
-			    json_causes(window ? &c->causes_win : &c->causes_life, tm->tid,
-					self_pid(c)));
-	/* --hist: the summary's lifetime ones, and each interval's with --hist-interval */
-	if (c->o->hist && hist_shown(tm) && (!window || c->o->hist_interval))
-		json_object_set_new(json_object_get(o, window ? "interval" : "total"), "hist",
-				    hist_json(tm, c->o->hist, window));
-	return o;
+		jw_json(w, "stacks", stacks_json(&c->stacks, tm->tid, window));
+	jw_end_obj(w);
 }
 
 /* json_event - one rare event */
@@ -526,6 +594,7 @@ static void json_list_end(void)
  */
 static void json_threads(const struct collector *c, const struct supervisor *sv, bool window)
 {
+	static struct jw thread_jw;
 	bool active = window && c->o->json_active;
 	int i, n, quiet = 0;
 
@@ -540,7 +609,15 @@ static void json_threads(const struct collector *c, const struct supervisor *sv,
 			quiet++;
 			continue;
 		}
-		json_item(&n, json_thread(c, sv, tm, window));
+		/* written straight, one buffer kept across threads and intervals */
+		if (n++)
+			putchar(',');
+		jw_reset(&thread_jw);
+		jw_thread(&thread_jw, c, sv, tm, window);
+		if (thread_jw.oom)	/* no memory for the buffer: the thread is null */
+			fputs("null", stdout);
+		else
+			fwrite(thread_jw.buf, 1, thread_jw.len, stdout);
 	}
 	json_list_end();
 	if (active)

@@ -26,12 +26,10 @@ bool hist_shown(const struct thread_model *tm)
 /* counts - a thread's bucket counts of metric m (lifetime or last interval) */
 static const __u64 *counts(const struct thread_model *tm, int m, bool window, __u64 *buf)
 {
-	if (tm->life_hist && !window)
-		return tm->life_hist->h[m];
-	if (tm->life_hist)
-		for (int b = 0; b < HIST_BUCKETS; b++)
-			buf[b] = tm->life_hist->win[m][b];
-	else
+	int lo, hi;
+
+	memset(buf, 0, HIST_BUCKETS * sizeof(*buf));
+	if (!(window ? model_win_counts : model_life_counts)(tm, m, buf, &lo, &hi))
 		hist_delta(tm->cur.m[m].hist, NULL, buf);
 	return buf;
 }

@@ -323,26 +323,22 @@ static int le_below(size_t k)
  * put_histogram - a cumulative histogram from the thread's lifetime one
  * (metric 'metric'). A kernel bucket counts below a bound only when all of
  * it is below, so a bucket may lag by up to 1/8 of its bound (the kernel's
- * resolution). The counts are the model's u64 sums, not the kernel's
- * __u32 buckets: those wrap, and a Prometheus histogram never decreases.
+ * resolution). The counts are the model's lifetime ones (u64: the kernel's
+ * plus their wraps), not the __u32 buckets alone: those wrap, and a
+ * Prometheus histogram never decreases.
  */
 static void put_histogram(struct prom_buf *b, const char *name, const struct thread_model *tm,
 			  int metric, const struct tlabels *tl, int ti)
 {
 	const struct rtsup_metric_stats *st = &tm->cur.m[metric];
-	__u64 own[HIST_BUCKETS], cum = 0;
-	const __u64 *h = own;
+	__u64 h[HIST_BUCKETS], cum = 0;
 	char bucket[96];
 	int i, lo = 0, hi = HIST_BUCKETS - 1;
 	size_t k;
 
-	if (tm->life_hist) {	/* its counts outside [lo, hi] are 0 */
-		h = tm->life_hist->h[metric];
-		lo = tm->life_hist->lo[metric];
-		hi = tm->life_hist->hi[metric];
-	} else {
-		hist_delta(st->hist, NULL, own);
-	}
+	/* its counts outside [lo, hi] are 0 */
+	if (!model_life_counts(tm, metric, h, &lo, &hi))
+		hist_delta(st->hist, NULL, h);
 
 	snprintf(bucket, sizeof(bucket), "%s_bucket", name);
 	for (k = 0, i = lo; k < NLE; k++) {

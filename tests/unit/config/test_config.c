@@ -15,6 +15,7 @@
 #include "config/config.h"
 #include "config/stackopt.h"
 #include "config/strict.h"
+#include "model/syscalls.h"
 #include "can.h"
 
 /* test files, relative to the project root (make unit runs from there) */

@@ -476,6 +476,26 @@ static void test_model_set_snapshots(void **state)
 	model_free(&m);
 }
 
+/* life_at - the model's lifetime count of bucket b of metric i */
+static __u64 life_at(const struct thread_model *tm, int i, int b)
+{
+	__u64 h[HIST_BUCKETS];
+	int lo, hi;
+
+	assert_true(model_life_counts(tm, i, h, &lo, &hi));
+	return b >= lo && b <= hi ? h[b] : 0;
+}
+
+/* win_at - the model's count of bucket b of metric i in the last interval */
+static __u64 win_at(const struct thread_model *tm, int i, int b)
+{
+	__u64 h[HIST_BUCKETS];
+	int lo, hi;
+
+	assert_true(model_win_counts(tm, i, h, &lo, &hi));
+	return b >= lo && b <= hi ? h[b] : 0;
+}
+
 /* check_views - tm against the snapshots: every bucket, and the public views */
 static void check_views(const struct thread_model *tm, const struct rtsup_thread *cur,
 			const struct rtsup_thread *base, __u64 (*life)[HIST_BUCKETS],
@@ -488,8 +508,8 @@ static void check_views(const struct thread_model *tm, const struct rtsup_thread
 		for (b = 0; b < HIST_BUCKETS; b++) {
 			__u32 d = cur->m[i].hist[b] - (base ? base->m[i].hist[b] : 0);
 
-			assert_int_equal(tm->life_hist->win[i][b], d);
-			assert_int_equal(tm->life_hist->h[i][b], life[i][b]);
+			assert_int_equal(win_at(tm, i, b), d);
+			assert_int_equal(life_at(tm, i, b), life[i][b]);
 			if (d)
 				assert_true(tm->life_hist->wlo[i] <= b && b <= tm->life_hist->whi[i]);
 			if (life[i][b])
@@ -511,7 +531,7 @@ static void check_views(const struct thread_model *tm, const struct rtsup_thread
  */
 static void test_model_views_follow_moving_buckets(void **state)
 {
-	static const __u64 exec[] = { 10 * US, 5 * MS, 0, 50 * US, 0, 2 * MS };
+	static const __u64 exec[] = { 10 * US, 5 * MS, 0, 50 * US, 0, 2 * MS, 0, 3 * MS };
 	static __u64 life[RTSUP_M_NR][HIST_BUCKETS];
 	struct tfx *t = *state;
 	struct model m = { 0 };
@@ -530,11 +550,13 @@ static void test_model_views_follow_moving_buckets(void **state)
 			model_idle(tm);
 			for (i = 0; i < RTSUP_M_NR; i++)
 				for (b = 0; b < HIST_BUCKETS; b++)
-					assert_int_equal(tm->life_hist->win[i][b], 0);
+					assert_int_equal(win_at(tm, i, b), 0);
 			assert_int_equal(tm->win.m[RTSUP_M_EXEC].count, 0);
 			continue;
 		}
-		if (k == 4) {	/* the kernel restarted the statistics */
+		if (k == 6) {	/* a snapshot without a cycle: the lifetime views are kept */
+			t->cur.vol_cs++;
+		} else if (k == 4) {	/* the kernel restarted the statistics */
 			for (i = 0; i < RTSUP_M_NR; i++)
 				metric_init(&t->cur.m[i]);
 			t->cur.resets++;
@@ -553,6 +575,97 @@ static void test_model_views_follow_moving_buckets(void **state)
 		check_views(tm, &t->cur, have_prev ? &prev : NULL, life, bank);
 		prev = t->cur;
 		have_prev = true;
+	}
+	model_free(&m);
+}
+
+/*
+ * An idle thread costs no percentile walk: a snapshot equal to the last
+ * one computes nothing, one where a metric did not move keeps that
+ * metric's lifetime view (the poisoned p99 stays), one
+ * where it moved computes it again, as does a bucket read before its count
+ * (a torn read); a restart of the kernel's statistics computes every view
+ * again, whatever the counts.
+ */
+static void test_model_idle_snapshot_keeps_life_views(void **state)
+{
+	struct tfx *t = *state;
+	struct model m = { 0 };
+	struct thread_model *tm = model_get(&m, 42, true);
+	struct metric_view *life_exec;
+	__u64 p99;
+
+	assert_non_null(tm);
+	t->cur.first_seen = 7;
+	add_cycles(&t->cur, 20, 100 * US, 0);
+	model_set(tm, &t->cur, 0);
+	life_exec = &tm->life.m[RTSUP_M_EXEC];
+	p99 = life_exec->p99;
+	assert_int_equal(p99 / US, 100);
+
+	/* the same bytes again (a parked thread): nothing is computed, the interval empties */
+	assert_int_equal(win_at(tm, RTSUP_M_EXEC, hist_bucket(100 * US)), 20);
+	life_exec->p99 = 12345;		/* poison: kept only if not walked again */
+	tm->life.cycles = 777;
+	model_set(tm, &t->cur, 1);
+	assert_int_equal(life_exec->p99, 12345);
+	assert_int_equal(tm->life.cycles, 777);
+	assert_int_equal(tm->win.cycles, 0);
+	assert_int_equal(tm->win.m[RTSUP_M_EXEC].count, 0);
+	assert_int_equal(win_at(tm, RTSUP_M_EXEC, hist_bucket(100 * US)), 0);
+	tm->life.cycles = 20;
+
+	t->cur.vol_cs++;	/* a switch, no cycle: the counters again, not the percentiles */
+	model_set(tm, &t->cur, 1);
+	assert_int_equal(life_exec->p99, 12345);
+	assert_int_equal(tm->win.m[RTSUP_M_EXEC].count, 0);
+	assert_int_equal(tm->life.cycles, 20);
+
+	add_cycles(&t->cur, 1, 100 * US, 0);	/* moved: computed again */
+	model_set(tm, &t->cur, 0);
+	assert_int_equal(life_exec->p99, p99);
+
+	life_exec->p99 = 12345;	/* a torn read: a bucket moved, its count not yet */
+	t->cur.m[RTSUP_M_EXEC].hist[hist_bucket(100 * US)]++;
+	model_set(tm, &t->cur, 1);
+	assert_int_not_equal(life_exec->p99, 12345);
+
+	life_exec->p99 = 12345;
+	t->cur.resets++;	/* the same counts, but since a restart */
+	model_set(tm, &t->cur, 1);
+	assert_int_equal(life_exec->p99, p99);
+	model_free(&m);
+}
+
+/*
+ * What the kernel counted before the thread's first cycle (a snapshot
+ * without cycles keeps no lifetime of its own) is in the lifetime once one
+ * is kept: every view as the kernel's buckets give it.
+ */
+static void test_model_life_holds_counts_before_the_first_cycle(void **state)
+{
+	struct tfx *t = *state;
+	struct model m = { 0 };
+	struct thread_model *tm = model_get(&m, 42, true);
+	struct rtsup_metric_stats *s = &t->cur.m[RTSUP_M_LATENCY];
+	__u32 b = hist_bucket(2 * MS);
+	struct metric_view v;
+	int i;
+
+	assert_non_null(tm);
+	t->cur.first_seen = 7;
+	s->hist[b] = 3;
+	s->count = 3;
+	s->sum = 6 * MS;
+	s->min = s->max = 2 * MS;
+	model_set(tm, &t->cur, 0);
+	assert_null(tm->life_hist);
+	add_cycles(&t->cur, 10, 100 * US, 1);
+	model_set(tm, &t->cur, 1);
+	assert_int_equal(life_at(tm, RTSUP_M_LATENCY, b), 3);
+	for (i = 0; i < RTSUP_M_NR; i++) {
+		metric_view_life(&t->cur.m[i], &v);
+		assert_memory_equal(&tm->life.m[i], &v, sizeof(v));
 	}
 	model_free(&m);
 }
@@ -580,12 +693,12 @@ static void test_model_life_hist_wrap(void **state)
 	s->min = 1 * MS;
 	s->max = 1 * MS;
 	model_set(tm, &t->cur, 0);
-	assert_int_equal(tm->life_hist->h[RTSUP_M_PERIOD][b], 0xFFFFFFF0ULL);
+	assert_int_equal(life_at(tm, RTSUP_M_PERIOD, b), 0xFFFFFFF0ULL);
 
 	s->hist[b] = 0x10;	/* 0x20 more: the __u32 wrapped */
 	s->count += 0x20;
 	model_set(tm, &t->cur, 1);
-	assert_int_equal(tm->life_hist->h[RTSUP_M_PERIOD][b], 0x100000010ULL);
+	assert_int_equal(life_at(tm, RTSUP_M_PERIOD, b), 0x100000010ULL);
 	assert_int_equal(tm->win.m[RTSUP_M_PERIOD].count, 0x20);
 
 	/*
@@ -602,8 +715,8 @@ static void test_model_life_hist_wrap(void **state)
 		model_set(tm, &t->cur, i & 1);
 	}
 	want = 0x100000010ULL + 365 * (86400ULL * 1000 - 864000);
-	assert_int_equal(tm->life_hist->h[RTSUP_M_PERIOD][b], want);
-	assert_int_equal(tm->life_hist->h[RTSUP_M_PERIOD][b2], 365 * 864000ULL);
+	assert_int_equal(life_at(tm, RTSUP_M_PERIOD, b), want);
+	assert_int_equal(life_at(tm, RTSUP_M_PERIOD, b2), 365 * 864000ULL);
 	/*
 	 * 1 % at 3 ms: p50 and p99 in the 1 ms bucket, p99.9 at 3 ms. Wrapped
 	 * __u32 counts would put p50 anywhere. (Every value sits at the bucket's
@@ -841,6 +954,8 @@ int main(void)
 		TS(test_model_set_snapshots),
 		TS(test_model_life_hist_wrap),
 		TS(test_model_views_follow_moving_buckets),
+		TS(test_model_idle_snapshot_keeps_life_views),
+		TS(test_model_life_holds_counts_before_the_first_cycle),
 		M(test_model_get_sorted),
 		M(test_model_entries_do_not_move),
 		M(test_model_remove),
