@@ -96,15 +96,24 @@ def test_script_action_one_call_per_transition(tmp_path):
          "--", str(LOADGEN), "--name", prefix, "-c", "1500", "-f", "mmap@300,thread=0"]
         + PINNED)
     assert code == 2, err  # the injected mmap is a WARN
-    # nothing failed, nothing skipped (a command started by the last verdict
-    # may still run when the run ends: the end line may count it)
-    assert "rtsup-trace: action '" not in err and "skipped" not in err, err
+    # nothing failed and nothing waited for a command (one started by the last
+    # verdict may still run when the run ends: the end line may count it).
+    # Under noise, misses can make a component enter or leave WARN again within
+    # the second, and the rate limit skips those: make test-noisy's injector
+    # made 54 misses in an interval of 491 cycles, over the 50 that warn.
+    acts = [l for l in err.splitlines() if l.startswith("rtsup-trace: action '")]
+    assert all("skipped: at most once a second per component" in l for l in acts), err
     summary = [o for o in objs if o["type"] == "summary"][0]
     t0 = [t for t in summary["threads"] if t["comm"] == prefix + "-0"][0]
-    # one call per change into or out of WARN, of any component, no more
-    want = sorted((c[0], c[1], c[2], c[3]) for c in level_changes(err) if "WARN" in (c[2], c[3]))
+    # one call per change into or out of WARN, of any component, but those the
+    # limit skips: once a second per action (into WARN, out of it) and component
+    changes = [(c[0], c[1], c[2], c[3]) for c in level_changes(err) if "WARN" in (c[2], c[3])]
     got = calls(tmp_path)
-    assert sorted((j["time"], j["component"], j["from"], j["level"]) for _, j in got) == want
+    ran = [(j["time"], j["component"], j["from"], j["level"]) for _, j in got]
+    assert len(ran) == len(set(ran)) and set(ran) <= set(changes), (ran, changes)
+    for side in (3, 2):  # into WARN, out of WARN
+        assert_rate_limited([c[:3] for c in changes if c[side] == "WARN"],
+                            [r[:3] for r in ran if r[side] == "WARN"])
     for env, j in got:
         # the environment says what the JSON line says
         assert env["RTSUP_COMPONENT"] == j["component"]
