@@ -97,5 +97,5 @@ void robot_stop(struct robot *r)
 	promexp_close(&r->pe);
 	ros2diag_close(&r->diag);
 	unit_free(&r->unit);
-	prom_buf_free(&r->buf);
+	textbuf_free(&r->buf);
 }

@@ -24,7 +24,7 @@ struct robot {
 	struct promexp pe;
 	struct unit_follow unit;
 	struct ros2diag diag;
-	struct prom_buf buf;
+	struct textbuf buf;
 	bool started;
 	bool stopped;
 };

@@ -7,41 +7,14 @@
 #include "sinks/jsonstr.h"
 #include "sinks/jsonw.h"
 
-/* room - n more bytes; false (and oom) when there is no memory for them */
-static bool room(struct jw *w, size_t n)
-{
-	size_t cap;
-	char *b;
-
-	if (w->oom)
-		return false;
-	if (w->len + n <= w->cap)
-		return true;
-	cap = w->cap ? w->cap : 4096;
-	while (cap < w->len + n)
-		cap *= 2;
-	b = realloc(w->buf, cap);
-	if (!b) {
-		w->oom = true;
-		return false;
-	}
-	w->buf = b;
-	w->cap = cap;
-	return true;
-}
-
 static void put(struct jw *w, const char *s, size_t n)
 {
-	if (room(w, n)) {
-		memcpy(w->buf + w->len, s, n);
-		w->len += n;
-	}
+	textbuf_put(&w->t, s, n);
 }
 
 static void putc1(struct jw *w, char c)
 {
-	if (room(w, 1))
-		w->buf[w->len++] = c;
+	textbuf_put(&w->t, &c, 1);
 }
 
 /* member - the comma before a value and its key (a constant name: no escapes) */
@@ -63,15 +36,15 @@ static void member(struct jw *w, const char *key)
 
 void jw_reset(struct jw *w)
 {
-	w->len = 0;
-	w->oom = false;
+	w->t.len = 0;
+	w->t.oom = false;
 	w->depth = 0;
 }
 
 void jw_free(struct jw *w)
 {
-	free(w->buf);
-	memset(w, 0, sizeof(*w));
+	textbuf_free(&w->t);
+	w->depth = 0;
 }
 
 static void open_(struct jw *w, const char *key, char c)
@@ -105,26 +78,12 @@ void jw_end_arr(struct jw *w)
 	putc1(w, ']');
 }
 
-/* digits - v in decimal into the end of buf[24]; returns where it starts */
-static char *digits(unsigned long long v, char *end)
-{
-	do {
-		*--end = (char)('0' + v % 10);
-		v /= 10;
-	} while (v);
-	return end;
-}
-
 void jw_int(struct jw *w, const char *key, long long v)
 {
-	char b[24], *s;
-	unsigned long long u = v < 0 ? 0ULL - (unsigned long long)v : (unsigned long long)v;
-
 	member(w, key);
-	s = digits(u, b + sizeof(b));
 	if (v < 0)
-		*--s = '-';
-	put(w, s, (size_t)(b + sizeof(b) - s));
+		putc1(w, '-');
+	textbuf_u64(&w->t, v < 0 ? 0ULL - (unsigned long long)v : (unsigned long long)v);
 }
 
 void jw_bool(struct jw *w, const char *key, bool v)
@@ -185,20 +144,10 @@ void jw_str(struct jw *w, const char *key, const char *s, size_t max)
 /* real - "ip.fp", fp being ndig decimal digits, its trailing zeros cut but one */
 static void real(struct jw *w, bool neg, unsigned long long ip, unsigned long long fp, int ndig)
 {
-	char ib[24], fb[24], *s = digits(ip, ib + sizeof(ib));
-	int i, n = ndig;
-
-	for (i = ndig - 1; i >= 0; i--) {
-		fb[i] = (char)('0' + fp % 10);
-		fp /= 10;
-	}
-	while (n > 1 && fb[n - 1] == '0')
-		n--;
 	if (neg)
 		putc1(w, '-');
-	put(w, s, (size_t)(ib + sizeof(ib) - s));
-	putc1(w, '.');
-	put(w, fb, (size_t)n);
+	textbuf_u64(&w->t, ip);
+	textbuf_fraction(&w->t, fp, ndig, true);
 }
 
 void jw_ns(struct jw *w, const char *key, double v)
@@ -247,7 +196,7 @@ void jw_json(struct jw *w, const char *key, json_t *v)
 		return;
 	}
 	n = json_dumpb(v, NULL, 0, JSON_COMPACT | JSON_ENCODE_ANY);
-	if (n && room(w, n))
-		w->len += json_dumpb(v, w->buf + w->len, n, JSON_COMPACT | JSON_ENCODE_ANY);
+	if (n && textbuf_room(&w->t, n))
+		w->t.len += json_dumpb(v, w->t.p + w->t.len, n, JSON_COMPACT | JSON_ENCODE_ANY);
 	json_decref(v);
 }

@@ -14,13 +14,12 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <jansson.h>
+#include "sinks/textbuf.h"
 
 #define JW_DEPTH 16
 
 struct jw {
-	char *buf;
-	size_t len, cap;
-	bool oom;			/* a write failed for memory: the value is cut */
+	struct textbuf t;		/* t.oom: a write failed for memory, the value is cut */
 	int depth;
 	bool first[JW_DEPTH];		/* no member yet at that depth */
 };

@@ -614,10 +614,10 @@ static void json_threads(const struct collector *c, const struct supervisor *sv,
 			putchar(',');
 		jw_reset(&thread_jw);
 		jw_thread(&thread_jw, c, sv, tm, window);
-		if (thread_jw.oom)	/* no memory for the buffer: the thread is null */
+		if (thread_jw.t.oom)	/* no memory for the buffer: the thread is null */
 			fputs("null", stdout);
 		else
-			fwrite(thread_jw.buf, 1, thread_jw.len, stdout);
+			fwrite(thread_jw.t.p, 1, thread_jw.t.len, stdout);
 	}
 	json_list_end();
 	if (active)

@@ -27,50 +27,18 @@ int prom_level_value(enum level l)
 	return 2;
 }
 
-/* grow - room for n more bytes plus the terminating NUL */
-static bool grow(struct prom_buf *b, size_t n)
+static void puts_(struct textbuf *b, const char *s)
 {
-	size_t cap;
-	char *p;
-
-	if (b->oom)
-		return false;
-	if (b->len + n + 1 <= b->cap)
-		return true;
-	cap = b->cap ? b->cap : 16384;
-	while (cap < b->len + n + 1)
-		cap *= 2;
-	p = realloc(b->p, cap);
-	if (!p) {
-		b->oom = true;
-		return false;
-	}
-	b->p = p;
-	b->cap = cap;
-	return true;
+	textbuf_put(b, s, strlen(s));
 }
 
-/* put - n bytes of raw text */
-static void put(struct prom_buf *b, const char *s, size_t n)
-{
-	if (!grow(b, n))
-		return;
-	memcpy(b->p + b->len, s, n);
-	b->len += n;
-}
-
-static void puts_(struct prom_buf *b, const char *s)
-{
-	put(b, s, strlen(s));
-}
-
-void prom_printf(struct prom_buf *b, const char *fmt, ...)
+void prom_printf(struct textbuf *b, const char *fmt, ...)
 {
 	va_list ap;
 	int n;
 
 	/* once into the room there is; again only when it did not fit */
-	if (!grow(b, 64))
+	if (!textbuf_room(b, 64))
 		return;
 	va_start(ap, fmt);
 	n = vsnprintf(b->p + b->len, b->cap - b->len, fmt, ap);
@@ -78,7 +46,7 @@ void prom_printf(struct prom_buf *b, const char *fmt, ...)
 	if (n < 0)
 		return;
 	if ((size_t)n >= b->cap - b->len) {
-		if (!grow(b, n))
+		if (!textbuf_room(b, n))
 			return;
 		va_start(ap, fmt);
 		vsnprintf(b->p + b->len, n + 1, fmt, ap);
@@ -87,72 +55,59 @@ void prom_printf(struct prom_buf *b, const char *fmt, ...)
 	b->len += n;
 }
 
-/* put_u64 - v in decimal */
-static void put_u64(struct prom_buf *b, unsigned long long v)
-{
-	char d[24];
-	int i = sizeof(d);
-
-	do {
-		d[--i] = (char)('0' + v % 10);
-		v /= 10;
-	} while (v);
-	put(b, d + i, sizeof(d) - i);
-}
-
 /* put_escaped - a label value: backslash, double quote and newline escaped */
-static void put_escaped(struct prom_buf *b, const char *s)
+static void put_escaped(struct textbuf *b, const char *s)
 {
 	size_t n;
 
 	for (;;) {
 		n = strcspn(s, "\\\"\n");
-		put(b, s, n);
+		textbuf_put(b, s, n);
 		s += n;
 		if (!*s)
 			return;
-		put(b, *s == '\n' ? "\\n" : *s == '"' ? "\\\"" : "\\\\", 2);
+		textbuf_put(b, *s == '\n' ? "\\n" : *s == '"' ? "\\\"" : "\\\\", 2);
 		s++;
 	}
 }
 
 /* put_kv - one label, k="v", its value escaped */
-static void put_kv(struct prom_buf *b, const char *k, const char *v)
+static void put_kv(struct textbuf *b, const char *k, const char *v)
 {
 	puts_(b, k);
-	put(b, "=\"", 2);
+	textbuf_put(b, "=\"", 2);
 	put_escaped(b, v);
-	put(b, "\"", 1);
+	textbuf_put(b, "\"", 1);
 }
 
-void prom_family(struct prom_buf *b, const char *name, const char *type, const char *help)
+void prom_family(struct textbuf *b, const char *name, const char *type, const char *help)
 {
 	prom_printf(b, "# HELP %s %s\n# TYPE %s %s\n", name, help, name, type);
 }
 
 /* put_labels - {k="v",...} from a NULL-terminated list */
-static void put_labels(struct prom_buf *b, const char *const *labels)
+static void put_labels(struct textbuf *b, const char *const *labels)
 {
 	int i;
 
 	if (!labels || !labels[0])
 		return;
-	put(b, "{", 1);
+	textbuf_put(b, "{", 1);
 	for (i = 0; labels[i] && labels[i + 1]; i += 2) {
 		if (i)
-			put(b, ",", 1);
+			textbuf_put(b, ",", 1);
 		put_kv(b, labels[i], labels[i + 1]);
 	}
-	put(b, "}", 1);
+	textbuf_put(b, "}", 1);
 }
 
 /* put_value - integers exactly, other numbers with full precision */
-static void put_value(struct prom_buf *b, double v)
+static void put_value(struct textbuf *b, double v)
 {
 	if (v >= 0 && v < 9007199254740992.0 && v == (double)(unsigned long long)v) {
-		put(b, " ", 1);
-		put_u64(b, (unsigned long long)v);
-		put(b, "\n", 1);
+		textbuf_put(b, " ", 1);
+		textbuf_u64(b, (unsigned long long)v);
+		textbuf_put(b, "\n", 1);
 	} else {
 		prom_printf(b, " %.17g\n", v);
 	}
@@ -162,26 +117,15 @@ static void put_value(struct prom_buf *b, double v)
  * put_seconds - ns as seconds, the exact decimal: it reads back as the
  * same double as ns / 1e9 (both are that decimal, correctly rounded)
  */
-static void put_seconds(struct prom_buf *b, __u64 ns)
+static void put_seconds(struct textbuf *b, __u64 ns)
 {
-	char f[10];
-	__u64 frac = ns % 1000000000;
-	int n = 9;
-
-	put(b, " ", 1);
-	put_u64(b, ns / 1000000000);
-	if (frac) {
-		for (int i = 8; i >= 0; i--, frac /= 10)
-			f[i] = (char)('0' + frac % 10);
-		while (f[n - 1] == '0')
-			n--;
-		put(b, ".", 1);
-		put(b, f, n);
-	}
-	put(b, "\n", 1);
+	textbuf_put(b, " ", 1);
+	textbuf_u64(b, ns / 1000000000);
+	textbuf_fraction(b, ns % 1000000000, 9, false);
+	textbuf_put(b, "\n", 1);
 }
 
-void prom_sample(struct prom_buf *b, const char *name, double value, const char *const *labels)
+void prom_sample(struct textbuf *b, const char *name, double value, const char *const *labels)
 {
 	puts_(b, name);
 	put_labels(b, labels);
@@ -198,25 +142,25 @@ struct tlab {
 };
 
 struct tlabels {
-	struct prom_buf text;
+	struct textbuf text;
 	struct tlab *t;	/* per model thread */
 };
 
-static void put_thread_labels(struct prom_buf *b, const struct thread_model *tm,
+static void put_thread_labels(struct textbuf *b, const struct thread_model *tm,
 			      struct tlab *t)
 {
 	char comp[48];
 
 	t->lab = b->len;
-	put(b, "comm=\"", 6);
+	textbuf_put(b, "comm=\"", 6);
 	put_escaped(b, tm->comm);
-	put(b, "\",tid=\"", 7);
-	put_u64(b, tm->tid);
-	put(b, "\",tgid=\"", 8);
-	put_u64(b, tm->tgid);
-	put(b, "\",process=\"", 11);
+	textbuf_put(b, "\",tid=\"", 7);
+	textbuf_u64(b, tm->tid);
+	textbuf_put(b, "\",tgid=\"", 8);
+	textbuf_u64(b, tm->tgid);
+	textbuf_put(b, "\",process=\"", 11);
 	put_escaped(b, tm->pcomm[0] ? tm->pcomm : tm->comm);
-	put(b, "\"", 1);
+	textbuf_put(b, "\"", 1);
 	t->lab_len = b->len - t->lab;
 	t->comp = b->len;
 	snprintf(comp, sizeof(comp), "%s[%u]", tm->comm, tm->tid);
@@ -239,7 +183,7 @@ static int tlabels_make(struct tlabels *tl, const struct model *m)
 
 static void tlabels_free(struct tlabels *tl)
 {
-	prom_buf_free(&tl->text);
+	textbuf_free(&tl->text);
 	free(tl->t);
 }
 
@@ -247,40 +191,40 @@ static void tlabels_free(struct tlabels *tl)
  * t_open - name and suffix, '{' and thread i's labels (the component label
  * first when 'comp'); the caller adds more labels, then '}' and the value
  */
-static void t_open(struct prom_buf *b, const char *name, const char *suffix,
+static void t_open(struct textbuf *b, const char *name, const char *suffix,
 		   const struct tlabels *tl, int i, bool comp)
 {
 	puts_(b, name);
 	puts_(b, suffix);
-	put(b, "{", 1);
+	textbuf_put(b, "{", 1);
 	if (comp) {
-		put(b, tl->text.p + tl->t[i].comp, tl->t[i].comp_len);
-		put(b, ",", 1);
+		textbuf_put(b, tl->text.p + tl->t[i].comp, tl->t[i].comp_len);
+		textbuf_put(b, ",", 1);
 	}
-	put(b, tl->text.p + tl->t[i].lab, tl->t[i].lab_len);
+	textbuf_put(b, tl->text.p + tl->t[i].lab, tl->t[i].lab_len);
 }
 
 /* sample_t - one sample of thread i, its labels (and the component one when 'comp') */
-static void sample_t(struct prom_buf *b, const char *name, double value,
+static void sample_t(struct textbuf *b, const char *name, double value,
 		     const struct tlabels *tl, int i, bool comp)
 {
 	t_open(b, name, "", tl, i, comp);
-	put(b, "}", 1);
+	textbuf_put(b, "}", 1);
 	put_value(b, value);
 }
 
 /* kv_open - name{thread i's labels,k="v"} (the value left to the caller) */
-static void kv_open(struct prom_buf *b, const char *name, const struct tlabels *tl, int i,
+static void kv_open(struct textbuf *b, const char *name, const struct tlabels *tl, int i,
 		    const char *k, const char *v)
 {
 	t_open(b, name, "", tl, i, false);
-	put(b, ",", 1);
+	textbuf_put(b, ",", 1);
 	put_kv(b, k, v);
-	put(b, "}", 1);
+	textbuf_put(b, "}", 1);
 }
 
 /* sample_kv - one sample of thread i with one more label than the thread's */
-static void sample_kv(struct prom_buf *b, const char *name, double value,
+static void sample_kv(struct textbuf *b, const char *name, double value,
 		      const struct tlabels *tl, int i, const char *k, const char *v)
 {
 	kv_open(b, name, tl, i, k, v);
@@ -327,7 +271,7 @@ static int le_below(size_t k)
  * plus their wraps), not the __u32 buckets alone: those wrap, and a
  * Prometheus histogram never decreases.
  */
-static void put_histogram(struct prom_buf *b, const char *name, const struct thread_model *tm,
+static void put_histogram(struct textbuf *b, const char *name, const struct thread_model *tm,
 			  int metric, const struct tlabels *tl, int ti)
 {
 	const struct rtsup_metric_stats *st = &tm->cur.m[metric];
@@ -350,7 +294,7 @@ static void put_histogram(struct prom_buf *b, const char *name, const struct thr
 	t_open(b, name, "_sum", tl, ti, false);
 	prom_printf(b, "} %.9f\n", st->sum / 1e9);
 	t_open(b, name, "_count", tl, ti, false);
-	put(b, "}", 1);
+	textbuf_put(b, "}", 1);
 	put_value(b, st->count);
 }
 
@@ -398,7 +342,7 @@ static __u64 tcounter_value(const struct span_view *s, enum tcounter c)
 }
 
 /* put_info - rtsup_thread_info of thread i: its labels, then policy, priority, cpus, rule */
-static void put_info(struct prom_buf *b, const struct prom_in *in, const struct tlabels *tl,
+static void put_info(struct textbuf *b, const struct prom_in *in, const struct tlabels *tl,
 		     int i)
 {
 	const struct thread_model *tm = in->m->t[i];
@@ -409,20 +353,20 @@ static void put_info(struct prom_buf *b, const struct prom_in *in, const struct 
 	if (tm->rule >= 0 && tm->rule_gen == in->s->gen && tm->rule < in->s->cfg.nrules)
 		rule = in->s->cfg.rules[tm->rule].name;
 	t_open(b, "rtsup_thread_info", "", tl, i, false);
-	put(b, ",", 1);
+	textbuf_put(b, ",", 1);
 	put_kv(b, "policy", policy_name(tm->policy));
-	put(b, ",", 1);
+	textbuf_put(b, ",", 1);
 	put_kv(b, "priority", prio);
-	put(b, ",", 1);
+	textbuf_put(b, ",", 1);
 	put_kv(b, "cpus", tm->cpus[0] ? tm->cpus : "-");
-	put(b, ",", 1);
+	textbuf_put(b, ",", 1);
 	put_kv(b, "rule", rule);
-	put(b, "}", 1);
+	textbuf_put(b, "}", 1);
 	put_value(b, 1);
 }
 
 /* render_threads - every per-thread family, one family at a time */
-static void render_threads(const struct prom_in *in, struct prom_buf *b)
+static void render_threads(const struct prom_in *in, struct textbuf *b)
 {
 	static const char *const mnames[RTSUP_M_NR] = {
 		[RTSUP_M_PERIOD] = "period", [RTSUP_M_EXEC] = "exec",
@@ -557,7 +501,7 @@ static void render_threads(const struct prom_in *in, struct prom_buf *b)
 }
 
 /* render_self - the supervisor's own numbers */
-static void render_self(const struct prom_in *in, struct prom_buf *b)
+static void render_self(const struct prom_in *in, struct textbuf *b)
 {
 	const struct model *m = in->m;
 	int i, alive = 0;
@@ -619,7 +563,7 @@ static void render_self(const struct prom_in *in, struct prom_buf *b)
 	prom_sample(b, "rtsup_violations_total", in->s->nv + in->s->v_dropped, NULL);
 }
 
-int prom_render(const struct prom_in *in, struct prom_buf *b)
+int prom_render(const struct prom_in *in, struct textbuf *b)
 {
 	b->len = 0;
 	b->oom = false;
@@ -629,14 +573,9 @@ int prom_render(const struct prom_in *in, struct prom_buf *b)
 	render_threads(in, b);
 	if (in->extra)
 		in->extra(b, in->extra_ctx);
-	if (!grow(b, 0))
+	if (!textbuf_room(b, 0))
 		return -1;
 	b->p[b->len] = '\0';
 	return 0;
 }
 
-void prom_buf_free(struct prom_buf *b)
-{
-	free(b->p);
-	memset(b, 0, sizeof(*b));
-}

@@ -13,14 +13,8 @@
 #include <linux/types.h>
 #include "model/model.h"
 #include "judge/supervise.h"
+#include "sinks/textbuf.h"
 
-/* A growing text buffer; 'oom' once an allocation failed (the text is then cut). */
-struct prom_buf {
-	char *p;
-	size_t len;
-	size_t cap;
-	bool oom;
-};
 
 struct prom_in {
 	const struct model *m;
@@ -36,7 +30,7 @@ struct prom_in {
 	 * families (docs/robot.md lists the planned names): a module adds its
 	 * own with prom_family() and prom_sample() here, prom.c stays as it is.
 	 */
-	void (*extra)(struct prom_buf *b, void *ctx);
+	void (*extra)(struct textbuf *b, void *ctx);
 	void *extra_ctx;
 };
 
@@ -44,17 +38,16 @@ struct prom_in {
 int prom_level_value(enum level l);
 
 /* prom_render - the whole exposition into b (cleared first); -1 when out of memory */
-int prom_render(const struct prom_in *in, struct prom_buf *b);
+int prom_render(const struct prom_in *in, struct textbuf *b);
 
 /* prom_family - "# HELP" and "# TYPE" of one metric family */
-void prom_family(struct prom_buf *b, const char *name, const char *type, const char *help);
+void prom_family(struct textbuf *b, const char *name, const char *type, const char *help);
 /*
  * prom_sample - one sample; labels is NULL or "k1", "v1", "k2", "v2", ...,
  * NULL-terminated; values are escaped here
  */
-void prom_sample(struct prom_buf *b, const char *name, double value, const char *const *labels);
+void prom_sample(struct textbuf *b, const char *name, double value, const char *const *labels);
 /* prom_printf - append raw text */
-void prom_printf(struct prom_buf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-void prom_buf_free(struct prom_buf *b);
+void prom_printf(struct textbuf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
 #endif

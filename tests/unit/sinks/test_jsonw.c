@@ -25,10 +25,10 @@ static const char *text(void)
 {
 	static char buf[4096];
 
-	assert_false(w.oom);
-	assert_true(w.len < sizeof(buf));
-	memcpy(buf, w.buf, w.len);
-	buf[w.len] = '\0';
+	assert_false(w.t.oom);
+	assert_true(w.t.len < sizeof(buf));
+	memcpy(buf, w.t.p, w.t.len);
+	buf[w.t.len] = '\0';
 	return buf;
 }
 
@@ -184,10 +184,10 @@ static void test_jsonw_grows(void **state)
 	for (i = 0; i < 2000; i++)
 		jw_int(&w, NULL, i);
 	jw_end_arr(&w);
-	assert_false(w.oom);
-	assert_true(w.len > 4096);
-	assert_memory_equal(w.buf, "[0,1,2,", 7);
-	assert_memory_equal(w.buf + w.len - 6, ",1999]", 6);
+	assert_false(w.t.oom);
+	assert_true(w.t.len > 4096);
+	assert_memory_equal(w.t.p, "[0,1,2,", 7);
+	assert_memory_equal(w.t.p + w.t.len - 6, ",1999]", 6);
 }
 
 int main(void)

@@ -64,7 +64,7 @@ static struct thread_model *thread(struct model *m, __u32 tid, const char *comm,
 struct fixture {
 	struct model m;
 	struct supervisor s;
-	struct prom_buf b;
+	struct textbuf b;
 	struct prom_in in;
 };
 
@@ -90,7 +90,7 @@ static int teardown(void **state)
 	struct fixture *f = *state;
 
 	model_free(&f->m);
-	prom_buf_free(&f->b);
+	textbuf_free(&f->b);
 	free(f);
 	return 0;
 }
@@ -315,7 +315,7 @@ static void test_prom_interval_max_exact(void **state)
 	}
 }
 
-static void extra(struct prom_buf *b, void *ctx)
+static void extra(struct textbuf *b, void *ctx)
 {
 	(*(int *)ctx)++;
 	prom_family(b, "rtsup_can_frames_total", "counter", "Frames.");
