@@ -482,8 +482,9 @@ static void judge_groups(struct can_model *m, const struct config *cfg, can_judg
 	}
 	for (g = 0; g < m->ngroups; g++) {
 		struct can_group_view *gv = &m->groups[g];
-		struct status old = gv->st, st;
+		struct status old, st;
 
+		status_copy(&old, &gv->st);
 		status_reset(&st);
 		status_check(&st, "can_group");
 		for (i = 0; i < m->nnodes; i++)
@@ -491,7 +492,7 @@ static void judge_groups(struct can_model *m, const struct config *cfg, can_judg
 			    m->nodes[i].st.level >= LEVEL_WARN)
 				status_add(&st, m->nodes[i].st.level, "%s: %s",
 					   cfg->can.nodes[i].name, level_name(m->nodes[i].st.level));
-		gv->st = st;
+		status_copy(&gv->st, &st);
 		snprintf(comp, sizeof(comp), "group:%s", gv->name);
 		judge(ctx, comp, &old, &gv->st, &gv->worst);
 	}
@@ -538,7 +539,7 @@ void can_model_judge(struct can_model *m, const struct config *cfg, __u64 now,
 			continue;
 		}
 		/* an identifier no node names: judged on its own learned period */
-		old = e->st;
+		status_copy(&old, &e->st);
 		status_reset(&e->st);
 		check_responding(&e->st, th, e->cur.last, e->learned, &gap, now);
 		can_component(m, e, comp, sizeof(comp));
@@ -548,7 +549,7 @@ void can_model_judge(struct can_model *m, const struct config *cfg, __u64 now,
 		struct can_node_view *v = &m->nodes[i];
 		const struct can_node *n = &cc->nodes[i];
 
-		old = v->st;
+		status_copy(&old, &v->st);
 		status_reset(&v->st);
 		status_check(&v->st, "initialization");
 		if (!v->frames && n->th.init_timeout_s &&
@@ -561,7 +562,7 @@ void can_model_judge(struct can_model *m, const struct config *cfg, __u64 now,
 	}
 	judge_groups(m, cfg, judge, ctx);
 	for (i = 0; i < m->nifs; i++) {
-		old = m->ifs[i].st;
+		status_copy(&old, &m->ifs[i].st);
 		check_iface(&m->ifs[i], cc, interval_s);
 		judge(ctx, m->ifs[i].name, &old, &m->ifs[i].st, &m->ifs[i].worst);
 	}
@@ -570,7 +571,7 @@ void can_model_judge(struct can_model *m, const struct config *cfg, __u64 now,
 
 		if (!co->seen)
 			continue;
-		old = co->st;
+		status_copy(&old, &co->st);
 		check_canopen(co, cc, now);
 		snprintf(comp, sizeof(comp), "canopen:%s:%d", m->ifs[i / CANOPEN_NODES].name,
 			 i % CANOPEN_NODES);
