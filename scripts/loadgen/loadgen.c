@@ -65,6 +65,19 @@ struct inj {
 	long arg;
 };
 
+/*
+ * --cycle-log: one cycle's clock reads, to set beside a tracer's recorded
+ * cycles when a count differs (tests print them on a failure).
+ */
+struct cycle_rec {
+	int64_t release;	/* the requested release (absolute sleeps) */
+	int64_t before;		/* read before the sleep: the tracer's end of the last cycle is after */
+	int64_t start;		/* read after the return: the tracer's start is before */
+	int64_t end;		/* read after the work: the span we judge an overrun by */
+	long invol, vol;	/* involuntary and voluntary switches at start (--audit) */
+	int64_t rd_before, rd_start;	/* run_delay() after the last work, at start (--audit) */
+};
+
 /* Per RT thread state; aligned so counters of different threads never share a line. */
 struct worker {
 	int index;
@@ -91,6 +104,8 @@ struct worker {
 	long exit_cycle;
 	struct inj *log;
 	long nlog, maxlog;
+	struct cycle_rec *clog;		/* --cycle-log: one per cycle, NULL without */
+	int sched_fd;			/* --audit: its /proc schedstat, -1 without */
 	char *pf_next;			/* next never-touched page of our slice */
 	long pf_pages;
 	/* block protocol with the helper (futex words) */
@@ -112,6 +127,7 @@ static struct config {
 	bool audit;
 	const char *wait_file;
 	const char *summary;
+	const char *cycle_log;
 	const char *name;
 	int cpus[MAX_CPUS];
 	int ncpus;
@@ -307,7 +323,8 @@ static void check_faults(void)
 	}
 }
 
-enum { OPT_RELATIVE = 0x100, OPT_NAME, OPT_START_DELAY, OPT_HOLD, OPT_WAIT_FILE, OPT_AUDIT };
+enum { OPT_RELATIVE = 0x100, OPT_NAME, OPT_START_DELAY, OPT_HOLD, OPT_WAIT_FILE, OPT_AUDIT,
+       OPT_CYCLE_LOG };
 
 const char *argp_program_version = PROG " 0.1";
 static const char doc[] =
@@ -343,6 +360,8 @@ static const struct argp_option opts[] = {
 	{ "name", OPT_NAME, "PREFIX", 0, "Thread name prefix (default \"lg\")", 0 },
 	{ "audit", OPT_AUDIT, NULL, 0, "Count the cycles whose miss or overrun a tracer "
 	  "may judge otherwise (two getrusage calls per cycle)", 0 },
+	{ "cycle-log", OPT_CYCLE_LOG, "FILE", 0, "Write every cycle's clock reads to FILE "
+	  "(text, one line a cycle, with the summary)", 0 },
 	{ "start-delay", OPT_START_DELAY, "MS", 0, "Sleep MS before starting threads", 0 },
 	{ "wait-file", OPT_WAIT_FILE, "PATH", 0, "Start the threads once PATH exists "
 	  "(a tracer creates it when attached; at most 5 minutes)", 0 },
@@ -385,6 +404,9 @@ static error_t parse_arg(int key, char *arg, struct argp_state *state)
 		break;
 	case OPT_AUDIT:
 		cfg.audit = true;
+		break;
+	case OPT_CYCLE_LOG:
+		cfg.cycle_log = arg;
 		break;
 	case OPT_HOLD:
 		cfg.hold = true;
@@ -585,16 +607,62 @@ static void rusage_switches(long *vol, long *invol)
 	*invol = ru.ru_nivcsw;
 }
 
-/* One cycle's overrun verdict, settled once its end edge is known. */
+/*
+ * run_delay - the time this thread has waited on a run queue so far
+ * (its schedstat's second field, CONFIG_SCHED_INFO), -1 when unknown. A
+ * sleep that ended waited there from its wakeup to its switch-in.
+ */
+static int64_t run_delay(int fd)
+{
+	char buf[96];
+	long long run, wait;
+	ssize_t n;
+
+	if (fd < 0 || (n = pread(fd, buf, sizeof(buf) - 1, 0)) <= 0)
+		return -1;
+	buf[n] = 0;
+	return sscanf(buf, "%lld %lld", &run, &wait) == 2 ? wait : -1;
+}
+
+/*
+ * One cycle's overrun verdict, settled once its end edge is known. The
+ * tracer's cycle starts at the switch-in that released it: after the
+ * release and after our read before the sleep, and later still by the
+ * time it then waited on a run queue. What runs between that switch-in
+ * and our start read (the wake path, an interrupt, a hypervisor's steal:
+ * 1 ms and more, a few times in 2000 cycles under the noise injector) is
+ * in its cycle and not in our span: 'start_lo' is the earliest it can be.
+ */
 struct pending_overrun {
-	bool valid, seen, near;		/* near: close to the period, or preempted at its start */
+	bool valid, seen, near;		/* near: preempted at its start */
+	int64_t start_lo;		/* the earliest the tracer's start can be */
 };
 
-/* audit_overrun - count a finished cycle a tracer may call an overrun when we did not */
-static void audit_overrun(struct worker *w, const struct pending_overrun *p, bool end_edge)
+/*
+ * audit_overrun - count a finished cycle a tracer may call an overrun when
+ * we did not: preempted at an edge, or its longest span a tracer can see,
+ * from start_lo to our read before the next sleep ('end_read', that
+ * sleep's entry follows within RACE_NS), is over the period.
+ */
+static void audit_overrun(struct worker *w, const struct pending_overrun *p, bool end_edge,
+			  int64_t end_read, int64_t period)
 {
-	if (p->valid && !p->seen && (p->near || end_edge))
+	if (p->valid && !p->seen &&
+	    (p->near || end_edge || end_read + RACE_NS - p->start_lo > period))
 		w->overruns_near++;
+}
+
+/*
+ * cycle_start_lo - the earliest a tracer's start of a cycle can be: its
+ * switch-in, after our read before the sleep ('before'); after the release
+ * too, if it slept (a sleep that found its release past returns at once),
+ * by the time it 'waited' on a run queue since. Never after our 'start'.
+ */
+static int64_t cycle_start_lo(int64_t release, int64_t before, int64_t start, int64_t waited)
+{
+	int64_t lo = release + waited > before ? release + waited : before;
+
+	return lo < start ? lo : start;
 }
 
 /* worker_main - one periodic RT thread, cyclictest style */
@@ -603,6 +671,8 @@ static void *worker_main(void *arg)
 	struct worker *w = arg;
 	int64_t period = cfg.period_us * 1000, next, now, start, work, span;
 	int64_t pre1 = 0, pre2 = 0;	/* the clock before the sleep, one and two cycles ago */
+	int64_t rd_start = -1, rd_end = -1;	/* run_delay() at start, after the work */
+	int64_t waited = 0;	/* on a run queue between the two: before the switch-in */
 	long vol0 = 0, vol = 0, inv = 0, inv_end = 0;
 	struct pending_overrun prev = { 0 };
 	bool late, edge = false;
@@ -627,8 +697,12 @@ static void *worker_main(void *arg)
 	touch_stack();
 	now_ns();	/* warm the vDSO */
 
-	if (cfg.audit)
+	if (cfg.audit) {
+		/* closed by main: a close here would be in the last cycle */
+		w->sched_fd = open("/proc/thread-self/schedstat", O_RDONLY | O_CLOEXEC);
 		rusage_switches(&vol0, &inv_end);
+		rd_end = run_delay(w->sched_fd);
+	}
 	next = now_ns() + period;
 	for (c = 0; c < cfg.cycles; c++) {
 		now = now_ns();
@@ -657,22 +731,32 @@ static void *worker_main(void *arg)
 		if (cfg.audit) {
 			/* preempted between the last end read and this cycle's start? */
 			rusage_switches(&vol, &inv);
+			rd_start = run_delay(w->sched_fd);
+			waited = rd_start >= 0 && rd_end >= 0 ? rd_start - rd_end : 0;
 			edge = inv > inv_end;
 			if (!late && !cfg.relative && (next - now < RACE_NS || edge))
 				w->misses_near++;
-			audit_overrun(w, &prev, edge);
+			audit_overrun(w, &prev, edge, now, period);
 		}
+		if (w->clog)
+			w->clog[c] = (struct cycle_rec){ .release = next, .before = now,
+				.start = start, .invol = inv, .vol = vol,
+				.rd_before = rd_end, .rd_start = rd_start };
 		work = w->maxlog ? inject(w, c, &quit) : cfg.work_us * 1000;
 		while (now_ns() - start < work)
 			;
-		if (cfg.audit)
+		if (cfg.audit) {
 			rusage_switches(&vol, &inv_end);
+			rd_end = run_delay(w->sched_fd);
+		}
 		/* what a tracer sees: the work took longer than a period (stalls too) */
 		span = now_ns() - start;
+		if (w->clog)
+			w->clog[c].end = start + span;
 		if (span > period)
 			w->overruns_seen++;
 		prev = (struct pending_overrun){ .valid = true, .seen = span > period,
-			.near = span > period - RACE_NS || edge };
+			.near = edge, .start_lo = cycle_start_lo(next, now, start, waited) };
 		w->cycles++;
 		if (quit) {
 			w->exited = true;
@@ -683,12 +767,14 @@ static void *worker_main(void *arg)
 	}
 	if (cfg.audit) {
 		/* the last cycle's end edge is the next delimiter, never observed */
-		audit_overrun(w, &prev, true);
+		audit_overrun(w, &prev, true, 0, period);
 		rusage_switches(&vol, &inv);
 		w->vol_switches = vol - vol0;
 	}
 	/* the last cycle never finishes: its predecessor's start is the last, until we end */
 	now = now_ns();
+	if (w->clog)	/* the park's sleep ends the last cycle */
+		w->clog[w->cycles].before = now;
 	if (w->cycles >= 2 && !cfg.hold && now - pre2 > w->max_start_span)
 		w->max_start_span = now - pre2;
 	__atomic_fetch_add(&workers_done, 1, __ATOMIC_RELEASE);
@@ -845,6 +931,10 @@ static long plan(void)
 		w->cpu = cfg.ncpus ? cfg.cpus[i % cfg.ncpus] : -1;
 		w->exit_cycle = -1;
 		w->hog_tid = -1;
+		w->sched_fd = -1;
+		/* one more for the read before the park's sleep */
+		if (cfg.cycle_log && !(w->clog = calloc(cfg.cycles + 1, sizeof(*w->clog))))
+			die("--cycle-log", "out of memory for %ld cycles", cfg.cycles);
 		for (j = 0; j < cfg.nfaults; j++) {
 			const struct fault *f = &cfg.faults[j];
 
@@ -1031,6 +1121,32 @@ static void write_summary(FILE *out, bool locked)
 	json_decref(root);
 }
 
+/* write_cycle_log - every thread's cycles, one line each (--cycle-log) */
+static void write_cycle_log(FILE *f)
+{
+	int i;
+	long c;
+
+	fprintf(f, "# tid cycle release before start end invol vol rd_before rd_start\n");
+	for (i = 0; i < cfg.threads; i++) {
+		const struct worker *w = &workers[i];
+
+		for (c = 0; c < w->cycles; c++) {
+			const struct cycle_rec *r = &w->clog[c];
+
+			fprintf(f, "%d %ld %lld %lld %lld %lld %ld %ld %lld %lld\n", (int)w->tid,
+				c, (long long)r->release, (long long)r->before,
+				(long long)r->start, (long long)r->end, r->invol, r->vol,
+				(long long)r->rd_before, (long long)r->rd_start);
+		}
+		/* the read before the sleep that ended the last cycle (0: none) */
+		fprintf(f, "%d %ld 0 %lld 0 0 0 0 0 0\n", (int)w->tid, c,
+			(long long)w->clog[c].before);
+	}
+	if (fclose(f))
+		die("--cycle-log", "%s: cannot write: %s", cfg.cycle_log, strerror(errno));
+}
+
 /* main - parse, prepare memory, run the threads, report */
 int main(int argc, char **argv)
 {
@@ -1039,7 +1155,7 @@ int main(int argc, char **argv)
 	};
 	bool need_tmp = false, need_helper = false, locked;
 	pthread_t helper;
-	FILE *out = NULL;
+	FILE *out = NULL, *clog_out = NULL;
 	int i, naux = 0;
 	long pages;
 
@@ -1053,6 +1169,8 @@ int main(int argc, char **argv)
 		if (!out)
 			die("--summary", "%s: %s", cfg.summary, strerror(errno));
 	}
+	if (cfg.cycle_log && !(clog_out = fopen(cfg.cycle_log, "w")))
+		die("--cycle-log", "%s: %s", cfg.cycle_log, strerror(errno));
 	for (i = 0; i < cfg.nfaults; i++) {
 		need_tmp |= cfg.faults[i].kind == K_WRITE;
 		need_helper |= cfg.faults[i].kind == K_BLOCK;
@@ -1117,6 +1235,12 @@ int main(int argc, char **argv)
 		futex(&workers[i].hog_trigger, FUTEX_WAKE_PRIVATE, 1, NULL);
 		pthread_join(workers[i].hog, NULL);
 	}
+	for (i = 0; i < cfg.threads; i++)
+		if (workers[i].sched_fd >= 0)
+			close(workers[i].sched_fd);
+	/* before the summary: whoever waits for the summary finds the log whole */
+	if (clog_out)
+		write_cycle_log(clog_out);
 	if (out)
 		write_summary(out, locked);
 	if (cfg.hold) {

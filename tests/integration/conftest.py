@@ -260,7 +260,20 @@ def run_supervised(tmp_path, lg_args, trace_args=None, nthreads=2):
     the tracer; return (truth, intervals, summary)."""
     prefix = unique_prefix()
     names = ["--comm=%s-%d" % (prefix, i) for i in range(nthreads)]
-    tr = Trace((trace_args or []) + names)
+    trace_args = list(trace_args or [])
+    audit = None
+    if not EMULATED:
+        # every cycle from both sides, for the message of a timing count that
+        # differs (cycle_audit.py); not in the emulated guests, whose checks
+        # of timing are loose and whose every cycle costs
+        record = tmp_path / "audit.rtsup"
+        if "--record" in trace_args:
+            record = trace_args[trace_args.index("--record") + 1]
+        else:
+            trace_args += ["--record", str(record)]
+        audit = (str(record), str(tmp_path / "cycles.txt"))
+        lg_args = ["--cycle-log", audit[1]] + lg_args
+    tr = Trace(trace_args + names)
     lg = Loadgen(tmp_path, ["--name", prefix, "-n", str(nthreads)] + lg_args)
     try:
         truth = lg.summary()
@@ -270,6 +283,8 @@ def run_supervised(tmp_path, lg_args, trace_args=None, nthreads=2):
         lg.stop()
         if tr.proc.poll() is None:
             tr.proc.kill()
+    for t in truth["threads"]:
+        t["_audit"] = audit
     return truth, intervals, summary
 
 

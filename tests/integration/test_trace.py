@@ -9,6 +9,8 @@ import time
 
 import pytest
 
+import cycle_audit
+from cycle_audit import CF_MISS, CF_OVERRUN
 from conftest import (EMULATED, LOADGEN, PERIOD_US, TRACE, Loadgen, Trace, block_events,
                       fdinfo_values, prog_ids, run_supervised, threads_by_tid, unique_prefix)
 
@@ -27,10 +29,20 @@ def check_timing_counts(truth_t, tot):
     see the same late cycles otherwise, however noisy the machine."""
     assert (truth_t["deadline_misses"] <= tot["deadline_misses"]
             <= truth_t["deadline_misses"] + truth_t["deadline_misses_near"]), (
-        tot["deadline_misses"], truth_t["deadline_misses"], truth_t["deadline_misses_near"])
+        tot["deadline_misses"], truth_t["deadline_misses"], truth_t["deadline_misses_near"],
+        cycles_judged_otherwise(truth_t, CF_MISS))
     assert (truth_t["overruns_seen"] <= tot["overruns"]
             <= truth_t["overruns_seen"] + truth_t["overruns_near"]), (
-        tot["overruns"], truth_t["overruns_seen"], truth_t["overruns_near"])
+        tot["overruns"], truth_t["overruns_seen"], truth_t["overruns_near"],
+        cycles_judged_otherwise(truth_t, CF_OVERRUN))
+
+
+def cycles_judged_otherwise(truth_t, flag):
+    """For a failure's message: the cycles the tracer and the generator
+    judged otherwise, both sides' clock reads (run_supervised kept them)."""
+    if not truth_t.get("_audit"):
+        return "(no cycle records)"
+    return cycle_audit.explain(*truth_t["_audit"], truth_t["tid"], PERIOD_US * 1000, flag)
 
 
 def check_thread_matches(truth_t, got, extra_blocks=0):
