@@ -518,6 +518,27 @@ static void rt_left_by_read(struct collector *c, struct thread_model *tm)
 }
 
 /*
+ * left_rt_policy - a thread the policy hook let go for leaving RT, whose
+ * sample still says an RT policy: the task iterator read it before the
+ * change, the thread map after (the rt-6.1 guest said "left RT (policy
+ * SCHED_FIFO)" so once). Asked again of the kernel, once per such thread.
+ */
+static void left_rt_policy(struct thread_model *tm)
+{
+	struct sched_param sp;
+	int policy;
+
+	if (!tm->alive || !(tm->cur.rt & RTSUP_RT_LEFT) || tm->policy < 0 ||
+	    !rt_policy(tm->policy))
+		return;
+	policy = sched_getscheduler(tm->tid);
+	if (policy < 0)
+		return;
+	tm->policy = policy & ~SCHED_RESET_ON_FORK;
+	tm->prio = sched_getparam(tm->tid, &sp) ? 0 : sp.sched_priority;
+}
+
+/*
  * listed - the sample's task iterator found the thread: it was there after
  * the hooks were attached, so an exit since is marked by the exit hook,
  * and an idle thread needs no thread_gone syscall (900 parked threads made
@@ -562,6 +583,7 @@ static int take(struct collector *c, __u32 tid, const struct rtsup_thread *t)
 	else
 		tm->policy = -1;
 	rt_left_by_read(c, tm);
+	left_rt_policy(tm);
 	return 0;
 }
 
