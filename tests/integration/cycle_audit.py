@@ -3,6 +3,7 @@
 the generator's own clock reads (rtsup-loadgen --cycle-log), cycle by cycle.
 A failing assertion prints the cycles the two judged otherwise, with what
 the generator saw around them, so a red run says which race it met."""
+import bisect
 import struct
 
 REC_CYCLE = 2
@@ -56,27 +57,23 @@ def generator_cycles(path):
     return out
 
 
-def _nearest(gen, start):
+def _nearest(gen, starts, start):
     """The generator's cycle whose start read follows the tracer's start
-    closest (the tracer's start is at the switch-in, before that read)."""
-    best = None
-    for g in gen:
-        d = g["start"] - start
-        if d >= 0 and (best is None or d < best[0]):
-            best = (d, g)
-    return best[1] if best else None
+    closest (the tracer's start is at the switch-in, before that read);
+    'starts' are gen's start reads, in order."""
+    i = bisect.bisect_left(starts, start)
+    return gen[i] if i < len(gen) else None
 
 
 def differences(rec, gen, period_ns, flag=CF_OVERRUN):
     """Lines naming each cycle the tracer flagged ('flag') and the generator
     did not, or the other way round, with both sides' clock reads."""
     lines = []
-    seen = set()
+    starts = [g["start"] for g in gen]
     for r in rec:
-        g = _nearest(gen, r["start"])
+        g = _nearest(gen, starts, r["start"])
         if g is None:
             continue
-        seen.add(g["cycle"])
         t_flag = bool(r["flags"] & flag)
         if flag == CF_OVERRUN:
             g_flag = g["end"] - g["start"] > period_ns
@@ -92,7 +89,7 @@ def differences(rec, gen, period_ns, flag=CF_OVERRUN):
                 g["cycle"], t_flag, g_flag, r["start"] - g["start"], r["exec"], r["nominal"],
                 r["preempt"], r["migrations"], r["latency"], g["release"] - g["start"],
                 g["end"] - g["start"],
-                g.get("next_before", 0) - g["start"] if "next_before" in g else "?",
+                g["next_before"] - g["start"] if "next_before" in g else "?",
                 g["invol"], g["vol"]))
     return lines
 

@@ -451,6 +451,18 @@ static bool attrs_from_iter(struct collector *c, struct thread_model *tm, char *
 	return true;
 }
 
+/*
+ * left_rt_after_sample - the policy hook let the thread go for leaving RT,
+ * and the sample still says an RT policy: the task iterator read it before
+ * the change, the thread map after (the rt-6.1 guest said "left RT (policy
+ * SCHED_FIFO)" so once). Its attributes are asked of the kernel instead,
+ * once: the entry is let go after it is reported.
+ */
+static bool left_rt_after_sample(const struct thread_model *tm)
+{
+	return (tm->cur.rt & RTSUP_RT_LEFT) && tm->policy >= 0 && rt_policy(tm->policy);
+}
+
 /* refresh_identity - names, cgroup and scheduling attributes of a live thread */
 static void refresh_identity(struct collector *c, struct thread_model *tm)
 {
@@ -474,7 +486,7 @@ static void refresh_identity(struct collector *c, struct thread_model *tm)
 		memcpy(tm->cgroup, cg, sizeof(cg));
 		rematch(tm);
 	}
-	if (iter)
+	if (iter && !left_rt_after_sample(tm))
 		return;
 	tm->policy = sched_getscheduler(tm->tid);
 	if (tm->policy < 0)
@@ -515,27 +527,6 @@ static void rt_left_by_read(struct collector *c, struct thread_model *tm)
 	    rt_on_policy(tm->policy, &tm->cur) != RT_LET_GO)
 		return;
 	rt_mark_left(&tm->cur, !bpf_map_lookup_elem(bpf_map__fd(c->skel->maps.tgids), &tgid, &one));
-}
-
-/*
- * left_rt_policy - a thread the policy hook let go for leaving RT, whose
- * sample still says an RT policy: the task iterator read it before the
- * change, the thread map after (the rt-6.1 guest said "left RT (policy
- * SCHED_FIFO)" so once). Asked again of the kernel, once per such thread.
- */
-static void left_rt_policy(struct thread_model *tm)
-{
-	struct sched_param sp;
-	int policy;
-
-	if (!tm->alive || !(tm->cur.rt & RTSUP_RT_LEFT) || tm->policy < 0 ||
-	    !rt_policy(tm->policy))
-		return;
-	policy = sched_getscheduler(tm->tid);
-	if (policy < 0)
-		return;
-	tm->policy = policy & ~SCHED_RESET_ON_FORK;
-	tm->prio = sched_getparam(tm->tid, &sp) ? 0 : sp.sched_priority;
 }
 
 /*
@@ -583,7 +574,6 @@ static int take(struct collector *c, __u32 tid, const struct rtsup_thread *t)
 	else
 		tm->policy = -1;
 	rt_left_by_read(c, tm);
-	left_rt_policy(tm);
 	return 0;
 }
 
