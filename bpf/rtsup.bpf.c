@@ -1283,7 +1283,13 @@ static __always_inline struct rtsup_thread *rt_at_switch(struct task_struct *nex
 
 	switch (rt_on_policy(TREAD(btf, next, policy), nt)) {
 	case RT_ADOPT:
-		return nt ? nt : rt_add(next);
+		/*
+		 * nt is NULL or stale (rtfollow.h). One let go for leaving RT
+		 * starts anew, as on_setsched's does. An exited one stays: the
+		 * exiting task itself can switch in again (preempted in do_exit),
+		 * and must not become a new thread that no exit event ends.
+		 */
+		return nt && nt->exited ? nt : rt_add(next);
 	case RT_LET_GO:
 		tgid = TREAD(btf, next, tgid);
 		rt_mark_left(nt, !!bpf_map_lookup_elem(&tgids, &tgid));

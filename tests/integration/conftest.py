@@ -25,7 +25,7 @@ TRACE = Path(os.environ["RTSUP_TRACE"]).resolve() if os.environ.get("RTSUP_TRACE
     else BUILD / "rtsup-trace"
 LOADGEN = BUILD / "rtsup-loadgen"
 NOISE = BUILD / "rtsup-noise"
-HANGS = BUILD / "vm" / "hangs.log"  # scripts/vm-test: boots that hung
+HANGS = BUILD / "vm" / "hangs.log"  # scripts/vm-test: boots that hung or panicked
 IN_CI = os.environ.get("CI", "").lower() in ("1", "true", "yes")
 # Inside a qemu TCG guest (tests/integration/test_guest.py) time is slow and
 # noisy: tests keep their count assertions and relax the timing ones.
