@@ -1061,6 +1061,16 @@ elif mode == "flip":
         sleep_until(t)
         os.write(w, b"x")
     sys.exit(os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1]))
+elif mode == "back":  # RT for n cycles, not RT for 1 s, RT again for n
+    os.sched_setscheduler(0, os.SCHED_FIFO, fifo)
+    say(os.getpid())
+    loop(n)
+    os.sched_setscheduler(0, os.SCHED_OTHER, os.sched_param(0))
+    time.sleep(1.0)  # five of the test's intervals: let go
+    os.sched_setscheduler(0, os.SCHED_FIFO, fifo)
+    lead = loop(n)
+    with open(out + ".lead", "w") as f:
+        f.write(str(lead))
 elif mode == "drop":
     os.sched_setscheduler(0, os.SCHED_FIFO, fifo)
     say(os.getpid())
@@ -1158,6 +1168,26 @@ def test_rt_follows_a_thread_back_in_rt(tmp_path, hook):
     assert all("SCHED_OTHER" in x for x in left), (left, err)
     t = threads_by_tid(summary).get(pid)
     assert t and not t.get("left_rt"), (t, err)
+
+
+@pytest.mark.parametrize("hook", list(RT_HOOKS))
+def test_rt_follows_a_thread_back_after_it_was_let_go(tmp_path, hook):
+    """A periodic SCHED_FIFO thread goes SCHED_OTHER for 1 s, is let go (its
+    entry dropped), and comes back to SCHED_FIFO: followed anew, all its
+    second run's cycles. Without the policy hook its switch-ins were held
+    for good (its tid's wakemask bit stayed clear once its entry was gone),
+    so the per-switch policy read never saw it come back."""
+    n = 500
+    pid, _, intervals, summary, err, hooked = run_rt_policy(tmp_path, ["back", str(n)],
+                                                            hook=hook)
+    left = [c["text"] for iv in intervals for x in iv["threads"] if x["tid"] == pid
+            for c in x["status"]["checks"] if "left RT" in c["text"]]
+    assert left == ["left RT (policy SCHED_OTHER): no longer a --rt target"], (left, err)
+    t = threads_by_tid(summary).get(pid)
+    assert t and not t.get("left_rt"), cycle_trail(intervals, summary, pid, err)
+    lead = 0 if hooked else int((tmp_path / "pid.lead").read_text())
+    assert n - 2 - lead <= t["total"]["cycles"] <= n, "lead %d\n%s" % (
+        lead, cycle_trail(intervals, summary, pid, err))
 
 
 @pytest.mark.parametrize("hook", list(RT_HOOKS))

@@ -792,6 +792,20 @@ static bool process_gone(const void *key, const void *value, void *ctx)
 	return !process_exists(*(const __u32 *)key);
 }
 
+/*
+ * tid_release - a tid whose entry is gone: its wakemask bit is set (always
+ * safe, rtsup.h), so its switch-ins are looked up, not held. A clear one
+ * (a let-go thread in delimiter mode, an exited one) held every switch-in
+ * of whoever has the tid for good, and --rt's per-switch policy read
+ * (rt_at_switch) never saw a thread come back to RT, or a new thread with
+ * the tid become RT. Costs one failed lookup per switch-in of that thread.
+ */
+static void tid_release(struct collector *c, __u32 tid)
+{
+	if (c->skel->rodata->cfg_rt_at_switch)
+		tid_bit_set(c->skel->bss->wakemask, tid);
+}
+
 void collector_reap(struct collector *c)
 {
 	int fd = bpf_map__fd(c->skel->maps.threads);
@@ -813,6 +827,7 @@ void collector_reap(struct collector *c)
 		if (!same_thread(c, fd, tm))
 			continue;	/* a new thread has the tid already (add_thread) */
 		bpf_map_delete_elem(fd, &tm->tid);
+		tid_release(c, tm->tid);
 		/* only if written: a storm's threads, dead before, cost no syscall */
 		if (tm->cfg_in_kernel) {
 			bpf_map_delete_elem(bpf_map__fd(c->skel->maps.thread_cfg), &tm->tid);
