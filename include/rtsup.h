@@ -48,6 +48,8 @@
  *   changes what that reads kept equal to it (note_wake: wake_bit_sync).
  *   It is set only with or after the tidmask bit, which stays: a set
  *   wakemask bit implies a set tidmask bit; a clear tidmask bit answers both.
+ *   Under --rt's per-switch fallback the collector sets it when it drops
+ *   an entry (tid_release): a held switch-in reads no policy.
  */
 #define RTSUP_TIDMASK_WORDS	((1U << 22) / 64)
 #define RTSUP_TIDMASK_WORD(tid)	(((tid) >> 6) & (RTSUP_TIDMASK_WORDS - 1))
