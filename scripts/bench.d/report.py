@@ -644,6 +644,27 @@ def render(r, res, made):
             a("| %s | %s | %d | %.1f | %s | %s |" % (w, p, c, t / c, fmt(f, "%.1f"),
                                                        fmt(t / c - f if f else None, "%.1f")))
     a("")
+    if r.ran("rtsup_rt_stats") and r.ran("floor_rt_stats"):
+        a("`--rt` (the service's default) the same way: `rtsup_rt_stats` against "
+          "`floor_rt_stats`, each with `--rt` and nothing else to follow, so every RT thread "
+          "of the machine is a target; where the policy hook cannot attach (this host: "
+          "fexit refused) every switch-in reads the next thread's policy. `net --rt` minus "
+          "`net` above is what `--rt` adds per event.")
+        a("")
+        a("| workload | program | runs | --rt ns | floor --rt ns | net --rt ns | net ns |")
+        a("|---|---|---:|---:|---:|---:|---:|")
+        for w in r.wl:
+            for p, (c, t) in sorted(r.progs("rtsup_rt_stats", w).items(),
+                                    key=lambda x: -x[1][0]):
+                if c < 1000:
+                    continue
+                f = r.ns("floor_rt_stats", w, prog_of(r, "floor_rt_stats", w, hook(p)) or "")
+                fr = r.ns(vf, w, prog_of(r, vf, w, hook(p)) or "")
+                o = r.ns(vr, w, prog_of(r, vr, w, hook(p)) or "")
+                a("| %s | %s | %d | %.1f | %s | %s | %s |" % (
+                    w, p, c, t / c, fmt(f, "%.1f"), fmt(t / c - f if f else None, "%.1f"),
+                    fmt(o - fr if o and fr else None, "%.1f")))
+        a("")
     bts = [(w, p, c, t) for w in r.wl for p, (c, t) in r.progs("bpftrace_stats", w).items()
            if c >= 1000]
     if bts:
