@@ -30,6 +30,7 @@ static __always_inline void zero_mem(void *p, __u32 n);
 #include "can.h"
 #include "stackcfg.h"
 #include "rtfollow.h"
+#include "threadread.h"
 
 /*
  * TREAD - a field of a task_struct or sk_buff argument: tp_btf programs get
@@ -379,10 +380,29 @@ static __always_inline void note_wake(const struct rtsup_thread *t)
 	wake_bit_sync(wakemask, t->tid, !t->exited && cycle_wakeup_read(t));
 }
 
+/*
+ * thread_entry - tid's entry, for a hook that may write it: its generation
+ * moves (threadread.h). The only lookup of the thread map but thread_exists.
+ */
+static __always_inline struct rtsup_thread *thread_entry(__u32 tid)
+{
+	struct rtsup_thread *t = bpf_map_lookup_elem(&threads, &tid);
+
+	if (t)
+		thread_touch(t);
+	return t;
+}
+
+/* thread_exists - tid has an entry; read only: its generation stays */
+static __always_inline bool thread_exists(__u32 tid)
+{
+	return bpf_map_lookup_elem(&threads, &tid) != NULL;
+}
+
 /* lookup_thread - the thread's entry, NULL for every thread that is no target */
 static __always_inline struct rtsup_thread *lookup_thread(__u32 tid)
 {
-	return maybe_target(tid) ? bpf_map_lookup_elem(&threads, &tid) : NULL;
+	return maybe_target(tid) ? thread_entry(tid) : NULL;
 }
 
 /* count - bump one of our own counters */
@@ -814,7 +834,7 @@ static __always_inline struct rtsup_thread *add_thread(struct task_struct *task,
 	 * PREEMPT_RT, where a program preempted inside an update of this map
 	 * holds its bucket lock slot on this CPU. Untracked only without one.
 	 */
-	t = bpf_map_lookup_elem(&threads, &tid);
+	t = thread_entry(tid);
 	if (!t) {
 		/* a thread, once: --rt at switch-ins tries again at every one */
 		tgid = BPF_CORE_READ(task, tgid);
@@ -1232,7 +1252,7 @@ static __always_inline struct rtsup_thread *settle_prev(__u32 prev_tid,
 
 	if (!maybe_target(prev_tid))
 		return NULL;
-	pt = bpf_map_lookup_elem(&threads, &prev_tid);
+	pt = thread_entry(prev_tid);
 	*r = held_switch_in();
 	if (held_for(*r, prev_tid)) {
 		if (pt)
@@ -1252,7 +1272,7 @@ static __always_inline struct rtsup_thread *lookup_or_hold(__u32 next_tid, int *
 	if (!maybe_target(next_tid))
 		return NULL;
 	if (maybe_wake_read(next_tid))
-		return bpf_map_lookup_elem(&threads, &next_tid);
+		return thread_entry(next_tid);
 	*hold = 1;
 	return NULL;
 }
@@ -1555,7 +1575,7 @@ static __always_inline int on_wakeup(struct task_struct *p, const int btf)
 	/* a target whose wakeup time nobody reads: no lookup */
 	if (!maybe_wake_read(tid))
 		return 0;
-	t = bpf_map_lookup_elem(&threads, &tid);
+	t = thread_entry(tid);
 	if (t && cycle_wakeup_read(t))
 		cycle_wakeup(t, now);
 	return 0;
@@ -1592,7 +1612,7 @@ static __always_inline int on_migrate(struct task_struct *p, int to, const int b
 
 	if (!maybe_target(tid))
 		return 0;
-	t = bpf_map_lookup_elem(&threads, &tid);
+	t = thread_entry(tid);
 	if (!t)
 		return 0;
 	from = TREAD(btf, p, thread_info.cpu);
@@ -1632,7 +1652,7 @@ static __always_inline int on_fork(struct task_struct *parent, struct task_struc
 static __always_inline int on_setsched(struct task_struct *p)
 {
 	__u32 tid = p->pid, tgid = p->tgid;
-	struct rtsup_thread *t = maybe_target(tid) ? bpf_map_lookup_elem(&threads, &tid) : NULL;
+	struct rtsup_thread *t = maybe_target(tid) ? thread_entry(tid) : NULL;
 
 	switch (rt_on_policy(p->policy, t)) {
 	case RT_ADOPT:
@@ -1690,7 +1710,7 @@ static __always_inline void stack_exec_mark(struct rtsup_thread *t, struct task_
 static __always_inline int on_exec(struct task_struct *p)
 {
 	__u32 tid = BPF_CORE_READ(p, pid), tgid, one = 1;
-	struct rtsup_thread *t = maybe_target(tid) ? bpf_map_lookup_elem(&threads, &tid) : NULL;
+	struct rtsup_thread *t = maybe_target(tid) ? thread_entry(tid) : NULL;
 	char comm[RTSUP_COMM_LEN];
 
 	/*
@@ -1722,7 +1742,7 @@ static __always_inline int on_exec(struct task_struct *p)
 static __always_inline int on_rename(struct task_struct *task, const char *newcomm)
 {
 	__u32 tid = BPF_CORE_READ(task, pid), tgid, one = 1;
-	struct rtsup_thread *t = bpf_map_lookup_elem(&threads, &tid);
+	struct rtsup_thread *t = thread_entry(tid);
 	char comm[RTSUP_COMM_LEN];
 
 	if (!t && !cfg_ncomm)
@@ -1744,7 +1764,7 @@ static __always_inline int on_rename(struct task_struct *task, const char *newco
 static __always_inline int on_exit(struct task_struct *task)
 {
 	__u32 tid = BPF_CORE_READ(task, pid);
-	struct rtsup_thread *t = bpf_map_lookup_elem(&threads, &tid);
+	struct rtsup_thread *t = thread_entry(tid);
 	__u64 now;
 
 	if (!t)
@@ -1783,7 +1803,7 @@ static __always_inline int on_fault(void)
 static __always_inline int on_signal(int sig)
 {
 	__u32 tid = (__u32)bpf_get_current_pid_tgid();
-	struct rtsup_thread *t = bpf_map_lookup_elem(&threads, &tid);
+	struct rtsup_thread *t = thread_entry(tid);
 
 	if (!t)
 		return 0;
@@ -2070,7 +2090,7 @@ static __always_inline int on_task_iter(struct seq_file *seq, struct task_struct
 	__u32 sz = bpf_core_field_size(task->cpus_mask);
 
 	a.tid = task->pid;
-	if (!maybe_target(a.tid) || !bpf_map_lookup_elem(&threads, &a.tid))
+	if (!maybe_target(a.tid) || !thread_exists(a.tid))
 		return 0;
 	a.policy = task->policy;
 	a.rt_priority = task->rt_priority;
@@ -2209,6 +2229,35 @@ int attrs_task(struct bpf_iter__task *ctx)
 	struct task_struct *task = ctx->task;
 
 	return task ? BODY(on_task_iter(ctx->meta->seq, task)) : 0;
+}
+
+/*
+ * on_thread_read - the map iterator's visit of one entry: a record, and the
+ * entry after it when it changed (threadread.h). When the read's buffer is
+ * full the entry is shown again by the next read: its reader fields go back.
+ */
+static __always_inline int on_thread_read(struct seq_file *seq, __u32 tid,
+					  struct rtsup_thread *t)
+{
+	struct rtsup_thread_rec r = { .tid = tid };
+	__u32 seen = t->read_seen, again = t->read_again;
+
+	r.full = thread_copy_due(t->gen, &t->read_seen, &t->read_again);
+	if (bpf_seq_write(seq, &r, sizeof(r)) || (r.full && bpf_seq_write(seq, t, sizeof(*t)))) {
+		t->read_seen = seen;
+		t->read_again = again;
+	}
+	return 0;
+}
+
+/* the collector's read of the thread map a sample, changed entries whole */
+SEC("iter/bpf_map_elem")
+int threads_read(struct bpf_iter__bpf_map_elem *ctx)
+{
+	struct rtsup_thread *t = ctx->value;
+	__u32 *tid = ctx->key;
+
+	return tid && t ? BODY(on_thread_read(ctx->meta->seq, *tid, t)) : 0;
 }
 
 RTSUP_PROGS("tp_btf", btf, 1)

@@ -156,6 +156,36 @@ def test_clean_load_period_and_cycles(tmp_path):
         assert lat["count"] >= CYCLES - 2 and lat["min"] <= lat["p50"] <= lat["p99"] <= lat["max"]
 
 
+def test_parked_threads_are_not_copied(tmp_path):
+    """The sample copies out only the thread map entries that changed
+    (include/threadread.h): threads parked before the tracer starts are
+    copied at its first two reads (new entries, then the second copy of a
+    change), then read as short records, and their totals stay whole."""
+    n, cycles = 6, 50
+    lg = Loadgen(tmp_path, ["--name", unique_prefix(), "-n", str(n), "-c", str(cycles)])
+    try:
+        truth = lg.summary()  # every worker parked in its hour-long sleep now
+        tr = Trace(["-i", "200ms", "--pid", str(lg.pid)])
+        # 8 intervals at least, of which the first two copy; under emulation
+        # an interval's read may come late, not early: more of them
+        time.sleep(3.0 if EMULATED else 1.6)
+        intervals, summary, _ = tr.stop()
+    finally:
+        lg.stop()
+    maps = [i["health"]["thread_map"] for i in intervals]
+    # the workers and the generator's main thread, in sigwait
+    assert all(m["entries"] == n + 1 for m in maps), maps
+    assert maps[0]["copied"] == n + 1 and maps[1]["copied"] == n + 1, maps
+    # no hook wrote a parked thread's entry: nothing copied after the second read
+    assert len(maps) >= 6 and all(m["copied"] == 0 for m in maps[2:]), maps
+    got = threads_by_tid(summary)
+    for t in truth["threads"]:
+        assert got[t["tid"]]["comm"] == t["comm"]
+    # nothing happened while traced: every interval after the first two is empty
+    for i in intervals[2:]:
+        assert all(x["interval"]["cycles"] == 0 for x in i["threads"]), i
+
+
 def test_injected_faults_reported_exactly(tmp_path):
     faults = ["-f", "overrun@100", "-f", "overrun/700,thread=1",
               "-f", "mmap/500,thread=1", "-f", "openat@300,thread=0",

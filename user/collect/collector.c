@@ -17,6 +17,7 @@
 #include "collect/mapprune.h"
 #include "cycle.h"
 #include "rtfollow.h"
+#include "threadread.h"
 #include "collect/targets.h"
 #include "collect/unwind.h"
 #include "model/syscalls.h"
@@ -540,24 +541,12 @@ static bool listed(const struct collector *c, __u32 tid)
 	return task_attrs_of(&c->attrs, tid) != NULL;
 }
 
-/* take - one thread's new kernel snapshot into the model */
-static int take(struct collector *c, __u32 tid, const struct rtsup_thread *t)
+/* take_rest - after the model took t, the rest of the thread: names, life, attributes */
+static void take_rest(struct collector *c, struct thread_model *tm, __u32 tid,
+		      const struct rtsup_thread *t)
 {
-	struct thread_model *tm = model_get(&c->model, tid, true);
 	char comm[RTSUP_COMM_LEN];
 
-	if (!tm)
-		return -ENOMEM;
-	if (!tm->cur.first_seen)
-		tm->rule = -1;
-	/* a tid reused by a new thread starts a new model */
-	if (tm->cur.first_seen && tm->cur.first_seen != t->first_seen) {
-		model_remove(&c->model, tid);
-		tm = model_get(&c->model, tid, true);
-		if (!tm)
-			return -ENOMEM;
-	}
-	model_set(tm, t, c->bank);
 	tm->tgid = t->tgid;
 	memcpy(comm, t->comm, RTSUP_COMM_LEN);
 	comm[RTSUP_COMM_LEN - 1] = '\0';
@@ -574,7 +563,91 @@ static int take(struct collector *c, __u32 tid, const struct rtsup_thread *t)
 	else
 		tm->policy = -1;
 	rt_left_by_read(c, tm);
+}
+
+/* take - one thread's new kernel snapshot into the model */
+static int take(struct collector *c, __u32 tid, const struct rtsup_thread *t)
+{
+	struct thread_model *tm = model_get(&c->model, tid, true);
+
+	if (!tm)
+		return -ENOMEM;
+	if (!tm->cur.first_seen)
+		tm->rule = -1;
+	/* a tid reused by a new thread starts a new model */
+	if (tm->cur.first_seen && tm->cur.first_seen != t->first_seen) {
+		model_remove(&c->model, tid);
+		tm = model_get(&c->model, tid, true);
+		if (!tm)
+			return -ENOMEM;
+	}
+	model_set(tm, t, c->bank);
+	take_rest(c, tm, tid, t);
 	return 0;
+}
+
+/*
+ * take_same - the iterator says tid's entry did not change since it was
+ * last copied: what take makes of the same bytes, without them. An entry
+ * the model does not hold (it cannot be, but the kernel decides) is read.
+ */
+static int take_same(struct collector *c, __u32 tid)
+{
+	struct thread_model *tm = model_get(&c->model, tid, false);
+
+	if (!tm || !tm->cur.first_seen) {
+		if (bpf_map_lookup_elem(bpf_map__fd(c->skel->maps.threads), &tid, c->batch_vals))
+			return 0;	/* gone since: as if never read */
+		thread_rec_normalize(c->batch_vals);
+		return take(c, tid, c->batch_vals);
+	}
+	model_idle(tm);
+	take_rest(c, tm, tid, &tm->cur);
+	return 0;
+}
+
+/*
+ * read_changed - the thread map through its iterator (threadread.h): a
+ * record per entry, the entry itself after it when it changed. A record
+ * seen twice in one read (an entry added to the hash bucket being read
+ * moves the others by one) is taken once.
+ */
+static int read_changed(struct collector *c)
+{
+	const size_t full = sizeof(struct rtsup_thread_rec) + sizeof(struct rtsup_thread);
+	struct iter_buf *b = &c->threads_out;
+	struct rtsup_thread_rec r;
+	struct thread_model *tm;
+	size_t off = 0;
+	int err;
+
+	c->map_entries = c->map_changed = 0;
+	err = iter_read(b, bpf_link__fd(c->skel->links.threads_read));
+	if (err)
+		return err;
+	for (; off + sizeof(r) <= b->len; off += r.full ? full : sizeof(r)) {
+		memcpy(&r, b->p + off, sizeof(r));
+		if (r.full && off + full > b->len)
+			break;
+		tm = model_get(&c->model, r.tid, false);
+		if (tm && tm->seen)
+			continue;
+		c->map_entries++;
+		if (r.full) {
+			/* 8-byte records: the entry after one is aligned as malloc's buffer */
+			struct rtsup_thread *t = (void *)(b->p + off + sizeof(r));
+
+			c->map_changed++;
+			thread_rec_normalize(t);
+			err = take(c, r.tid, t);
+		} else {
+			err = take_same(c, r.tid);
+		}
+		if (err)
+			return err;
+	}
+	/* a record cut short: the kernel wrote whole records, so this is not ours */
+	return off == b->len ? 0 : -EPROTO;
 }
 
 /* read_one_by_one - the thread map without batch operations (kernels < 5.6) */
@@ -622,6 +695,8 @@ static int read_threads(struct collector *c)
 	__u32 n, i;
 	bool first = true;
 
+	if (c->skel->links.threads_read)
+		return read_changed(c);
 	c->map_entries = 0;
 	if (c->no_batch)
 		return read_one_by_one(c, fd);
@@ -939,5 +1014,6 @@ void collector_free(struct collector *c)
 	model_free(&c->model);
 	free(c->batch_keys);
 	free(c->batch_vals);
+	iter_buf_free(&c->threads_out);
 	task_attrs_free(&c->attrs);
 }

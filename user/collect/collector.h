@@ -8,6 +8,7 @@
 #define RTSUP_COLLECTOR_H
 
 #include <stdbool.h>
+#include "collect/iterread.h"
 #include "collect/taskattrs.h"
 #include "model/causes.h"
 #include "model/eventlog.h"
@@ -62,6 +63,9 @@ struct collector {
 	struct rtsup_thread *batch_vals;
 	__u32 batch_cap;
 	bool no_batch;			/* the kernel has no batch operations */
+	/* or, where the kernel has its iterator, the entries that changed (threadread.h) */
+	struct iter_buf threads_out;
+	__u32 map_changed;		/* entries copied out whole at the last sample */
 	/* --stacks: the stack records, their own ring so events keep their order */
 	struct ring_buffer *stack_rb;
 	struct unwinder *unwinder;

@@ -142,10 +142,11 @@ static bool is_sys_prog(const char *name)
 /*
  * select_programs - keep one of the two program sets; CAN only with --can,
  * the user page fault hook only with --stacks, --rt's policy hook (rt_*)
- * only when rt_hook, the task iterator only when attrs_iter
+ * only when rt_hook, the task iterator only when attrs_iter, the thread map's
+ * iterator only when threads_iter
  */
 static void select_programs(struct bpf_object *obj, bool btf, bool can, bool faults,
-			    bool rt_hook, bool attrs_iter, bool sys_per)
+			    bool rt_hook, bool attrs_iter, bool threads_iter, bool sys_per)
 {
 	struct bpf_program *p;
 
@@ -163,8 +164,10 @@ static void select_programs(struct bpf_object *obj, bool btf, bool can, bool fau
 			bpf_program__set_autoload(p, false);
 		else if (!strncmp(name, "rt_", 3))
 			bpf_program__set_autoload(p, rt_hook);
-		else if (!strncmp(sec, "iter/", 5))
+		else if (!strcmp(sec, "iter/task"))
 			bpf_program__set_autoload(p, attrs_iter);
+		else if (!strcmp(sec, "iter/bpf_map_elem"))
+			bpf_program__set_autoload(p, threads_iter);
 		else
 			bpf_program__set_autoload(p, is_btf == btf && (can || !is_can) &&
 						  (faults || !is_fault));
@@ -409,7 +412,7 @@ static int floor_start(struct loader *l, const struct options *o)
 	if (!e)
 		return -errno;
 	l->floor = e;
-	select_programs(e->obj, l->tp_btf, o->can, l->fault_stacks, l->rt_hook, false,
+	select_programs(e->obj, l->tp_btf, o->can, l->fault_stacks, l->rt_hook, false, false,
 			l->sys_per);
 	/* empty stubs on the same syscalls; no body to call */
 	set_sys_hooks(e->obj, l->by_proto, false);
@@ -437,6 +440,8 @@ static bool rt_hook_failed;
 static bool sys_per_failed;
 /* the same for the task iterator (an old kernel): the collector asks per thread */
 static bool attrs_iter_failed;
+/* the same for the thread map's iterator: the collector reads every entry */
+static bool threads_iter_failed;
 
 /*
  * fallback_of - the optional piece to go without when loading (or, with
@@ -452,9 +457,24 @@ static bool *fallback_of(const struct loader *l, const struct options *o, bool a
 		return NULL;	/* forced per-syscall hooks refused: that is the error */
 	if (l->rt_hook)
 		return &rt_hook_failed;		/* the per-switch read */
+	if (at_load && l->threads_iter)
+		return &threads_iter_failed;	/* batch reads of every entry */
 	if (at_load && l->attrs_iter)
 		return &attrs_iter_failed;	/* the collector asks per thread */
 	return NULL;
+}
+
+/* attach_threads_iter - the thread map's iterator, on that map */
+static bool attach_threads_iter(struct rtsup_bpf *s)
+{
+	DECLARE_LIBBPF_OPTS(bpf_iter_attach_opts, opts);
+	union bpf_iter_link_info linfo = {};
+
+	linfo.map.map_fd = bpf_map__fd(s->maps.threads);
+	opts.link_info = &linfo;
+	opts.link_info_len = sizeof(linfo);
+	s->links.threads_read = bpf_program__attach_iter(s->progs.threads_read, &opts);
+	return s->links.threads_read != NULL;
 }
 
 /* start_again_without - stop, give up the piece the kernel refused, start again */
@@ -589,13 +609,16 @@ int loader_start(struct loader *l, const struct options *o)
 	s->rodata->cfg_block_sys = has_task_pt_regs();
 	/* the targets' attributes in one read a sample, where tracing programs load */
 	l->attrs_iter = l->tp_btf && !attrs_iter_failed && !o->floor;
+	l->threads_iter = !threads_iter_failed && !o->floor;
 	select_programs(s->obj, l->tp_btf, o->can, l->fault_stacks, l->rt_hook, l->attrs_iter,
+			l->threads_iter,
 			l->sys_per);
 	if (l->sys_per)
 		set_sys_hooks(s->obj, l->by_proto, true);
 	/* attached on their own below, to know that they failed */
 	bpf_program__set_autoattach(s->progs.rt_setsched, false);
 	bpf_program__set_autoattach(s->progs.attrs_task, false);
+	bpf_program__set_autoattach(s->progs.threads_read, false);
 	if (o->floor)	/* none of ours: floor_start attaches the empty ones */
 		bpf_object__for_each_program(p, s->obj)
 			bpf_program__set_autoload(p, false);
@@ -691,6 +714,9 @@ int loader_start(struct loader *l, const struct options *o)
 		s->links.attrs_task = bpf_program__attach_iter(s->progs.attrs_task, NULL);
 		l->attrs_iter = s->links.attrs_task != NULL;
 	}
+	/* without it the collector reads every entry (batch reads) */
+	if (!err && l->threads_iter)
+		l->threads_iter = attach_threads_iter(s);
 	if (!err && o->floor) {
 		err = floor_start(l, o);
 		/* the floor falls back as ours does: its set is the one we would run */

@@ -17,6 +17,7 @@ struct loader {
 	bool fault_stacks;	/* --stacks: the user page fault hook is attached */
 	bool rt_hook;		/* --rt: the policy hook is attached (rtfollow.h) */
 	bool attrs_iter;	/* the task iterator is loaded (taskattrs.h) */
+	bool threads_iter;	/* the thread map's iterator is attached (threadread.h) */
 	bool sys_per;		/* per-syscall hooks, on the syscalls in hooks; else raw_syscalls */
 	struct sys_hookset hooks;
 	/* hooks by the prototype of their function: [0] with arguments, [1] without */

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-#include <bpf/bpf.h>
+#include "collect/iterread.h"
 #include "taskattrs.h"
 #include "targets.h"
 
@@ -57,39 +57,11 @@ int task_attrs_parse(struct task_attrs *ta, const void *buf, size_t len)
 
 int task_attrs_read(struct task_attrs *ta, int link_fd)
 {
-	size_t len = 0;
-	ssize_t r;
-	int fd = bpf_iter_create(link_fd), err = 0;
+	int err = iter_read(&ta->out, link_fd);
 
 	ta->n = 0;
-	if (fd < 0)
-		return -errno;
-	for (;;) {
-		if (ta->buf_cap - len < 4096) {
-			size_t ncap = ta->buf_cap ? ta->buf_cap * 2 : 64 * 1024;
-			char *p = realloc(ta->buf, ncap);
-
-			if (!p) {
-				err = -ENOMEM;
-				break;
-			}
-			ta->buf = p;
-			ta->buf_cap = ncap;
-		}
-		r = read(fd, ta->buf + len, ta->buf_cap - len);
-		if (r < 0 && errno == EINTR)
-			continue;
-		if (r < 0) {
-			err = -errno;
-			break;
-		}
-		if (!r)
-			break;
-		len += r;
-	}
-	close(fd);
 	read_online(ta);
-	return err ?: task_attrs_parse(ta, ta->buf, len);
+	return err ?: task_attrs_parse(ta, ta->out.p, ta->out.len);
 }
 
 const struct rtsup_task_attrs *task_attrs_of(const struct task_attrs *ta, __u32 tid)
@@ -99,23 +71,35 @@ const struct rtsup_task_attrs *task_attrs_of(const struct task_attrs *ta, __u32 
 	return ta->n ? bsearch(&key, ta->a, ta->n, sizeof(*ta->a), by_tid) : NULL;
 }
 
-bool task_attrs_cpus(const struct task_attrs *ta, const struct rtsup_task_attrs *a,
+bool task_attrs_cpus(struct task_attrs *ta, const struct rtsup_task_attrs *a,
 		     char *buf, size_t len)
 {
 	unsigned long bits[RTSUP_ATTR_CPU_WORDS] = { 0 };
+	size_t n;
 	__u32 i;
 
 	if (!ta->online_ok)
 		return false;
 	for (i = 0; i < a->cpu_words && i < RTSUP_ATTR_CPU_WORDS; i++)
 		bits[i] = a->cpus[i] & ta->online[i];
-	cpu_list_mask(bits, RTSUP_ATTR_CPU_WORDS * 64, buf, len);
+	if (!ta->last_ok || memcmp(bits, ta->last_bits, sizeof(bits))) {
+		cpu_list_mask(bits, RTSUP_ATTR_CPU_WORDS * 64, ta->last_list,
+			      sizeof(ta->last_list));
+		memcpy(ta->last_bits, bits, sizeof(bits));
+		ta->last_ok = true;
+	}
+	n = strlen(ta->last_list);
+	if (n >= len || n + 1 >= sizeof(ta->last_list)) {	/* cut: as cpu_list_mask cuts */
+		cpu_list_mask(bits, RTSUP_ATTR_CPU_WORDS * 64, buf, len);
+		return true;
+	}
+	strcpy(buf, ta->last_list);
 	return true;
 }
 
 void task_attrs_free(struct task_attrs *ta)
 {
 	free(ta->a);
-	free(ta->buf);
+	iter_buf_free(&ta->out);
 	memset(ta, 0, sizeof(*ta));
 }

@@ -12,19 +12,23 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include "rtsup.h"
+#include "collect/iterread.h"
 
 struct task_attrs {
 	struct rtsup_task_attrs *a;	/* sorted by tid */
 	size_t n, cap;
 	size_t torn;			/* bytes of a record cut short, dropped (never seen) */
-	char *buf;			/* the iterator's output, kept between reads */
-	size_t buf_cap;
+	struct iter_buf out;		/* the iterator's output, kept between reads */
 	/*
 	 * the CPUs online at the read: the kernel's mask may hold any bits
 	 * past them, and sched_getaffinity shows a mask and'ed with them
 	 */
 	unsigned long online[RTSUP_ATTR_CPU_WORDS];
 	bool online_ok;
+	/* the last mask task_attrs_cpus wrote out: a process's threads mostly share one */
+	unsigned long last_bits[RTSUP_ATTR_CPU_WORDS];
+	char last_list[512];
+	bool last_ok;
 };
 
 /* task_attrs_parse - records as the iterator wrote them, sorted by tid; -ENOMEM */
@@ -33,8 +37,9 @@ int task_attrs_parse(struct task_attrs *ta, const void *buf, size_t len);
 int task_attrs_read(struct task_attrs *ta, int link_fd);
 /* task_attrs_of - tid's record of the last read, NULL if none */
 const struct rtsup_task_attrs *task_attrs_of(const struct task_attrs *ta, __u32 tid);
-/* task_attrs_cpus - a record's allowed CPUs as cpu_list writes them; false if unknown */
-bool task_attrs_cpus(const struct task_attrs *ta, const struct rtsup_task_attrs *a,
+/* task_attrs_cpus - a record's allowed CPUs as cpu_list writes them (the last list kept:
+ * threads mostly share one); false if unknown */
+bool task_attrs_cpus(struct task_attrs *ta, const struct rtsup_task_attrs *a,
 		     char *buf, size_t len);
 void task_attrs_free(struct task_attrs *ta);
 

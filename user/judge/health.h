@@ -33,6 +33,7 @@ struct health {
 	__u64 hook_runs_missed;		/* runs of our programs the kernel skipped (recursion) */
 	__u64 hook_runs_recovered;	/* of them, delimiter returns found otherwise */
 	struct health_map thread_map;
+	__u32 thread_map_copied;	/* of its entries, copied out whole at the last read */
 	struct health_map can_id_map;	/* capacity 0 without --can */
 };
 

@@ -439,6 +439,16 @@ static json_t *json_map_fill(const struct health_map *m)
 			 health_near_full(m));
 }
 
+/* json_thread_map - the thread map's fill, and how many entries the last read copied */
+static json_t *json_thread_map(const struct health *h)
+{
+	json_t *o = json_map_fill(&h->thread_map);
+
+	if (json_is_object(o))
+		json_object_set_new(o, "copied", json_integer(h->thread_map_copied));
+	return o;
+}
+
 /* json_health - rtsup-trace's own health (health.h, docs/json.md) */
 static json_t *json_health(const struct health *h)
 {
@@ -453,7 +463,7 @@ static json_t *json_health(const struct health *h)
 			 "actions_dropped", (json_int_t)h->actions_dropped,
 			 "hook_runs_missed", (json_int_t)h->hook_runs_missed,
 			 "hook_runs_recovered", (json_int_t)h->hook_runs_recovered,
-			 "thread_map", json_map_fill(&h->thread_map),
+			 "thread_map", json_thread_map(h),
 			 "can_id_map", json_map_fill(&h->can_id_map));
 }
 

@@ -8,6 +8,7 @@
 #include <string.h>
 #include <cmocka.h>
 #include "collect/taskattrs.h"
+#include "collect/targets.h"
 
 static struct rtsup_task_attrs rec(__u32 tid, __s32 policy, __u32 prio, __u64 cpus0)
 {
@@ -69,11 +70,37 @@ static void test_cpus_online_only(void **state)
 	assert_string_equal(buf, "0,2");
 }
 
+/* the last list is kept: the same mask again, another one, and a buffer too short */
+static void test_cpus_kept_list(void **state)
+{
+	struct rtsup_task_attrs a = rec(1, 1, 1, 0x5), b = rec(2, 1, 1, 0xf);
+	struct task_attrs ta = { 0 };
+	char buf[64], small[3];
+
+	(void)state;
+	ta.online[0] = ~0UL;
+	ta.online_ok = true;
+	assert_true(task_attrs_cpus(&ta, &a, buf, sizeof(buf)));
+	assert_string_equal(buf, "0,2");
+	assert_true(task_attrs_cpus(&ta, &a, buf, sizeof(buf)));
+	assert_string_equal(buf, "0,2");
+	assert_true(task_attrs_cpus(&ta, &b, buf, sizeof(buf)));
+	assert_string_equal(buf, "0-3");
+	assert_true(task_attrs_cpus(&ta, &a, buf, sizeof(buf)));
+	assert_string_equal(buf, "0,2");
+	/* cut as cpu_list_mask cuts, not overrun */
+	cpu_list_mask((unsigned long[RTSUP_ATTR_CPU_WORDS]){ 0x5 }, RTSUP_ATTR_CPU_WORDS * 64,
+		      buf, sizeof(small));
+	assert_true(task_attrs_cpus(&ta, &a, small, sizeof(small)));
+	assert_string_equal(small, buf);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_parse_and_find),
 		cmocka_unit_test(test_cpus_online_only),
+		cmocka_unit_test(test_cpus_kept_list),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1,0 +1,68 @@
+/* SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause */
+/*
+ * threadread.h - the collector's read of the thread map copies out only
+ * the entries that changed. Shared by BPF and userspace (unit tested).
+ *
+ * A robot's many threads are mostly parked: copying each one's 7 KiB entry
+ * every interval to find it unchanged was most of rtsup-trace's CPU time
+ * with 900 parked threads. Every hook that looks an entry up to write it
+ * moves the entry's generation (thread_touch); the map iterator of the
+ * sample (threads_read) sends a short record for an entry whose generation
+ * did not move, and the whole entry for one whose did.
+ *
+ * A hook moves the generation before it writes (at the lookup), so a copy
+ * taken while a hook runs may miss that hook's last writes. Every change
+ * is therefore copied twice: once when the generation moved, and once more
+ * at the next read, an interval later, when every hook that moved it has
+ * long returned (hooks run for microseconds, intervals last 100 ms or
+ * more). No barrier is needed, on any architecture.
+ */
+#ifndef RTSUP_THREADREAD_H
+#define RTSUP_THREADREAD_H
+
+#include "rtsup.h"
+
+/* What the iterator writes for each entry: this, then the entry when 'full'. */
+struct rtsup_thread_rec {
+	__u32 tid;
+	__u32 full;	/* 1: a struct rtsup_thread follows */
+};
+
+/* thread_touch - a hook may write t: its generation moves */
+RTSUP_INLINE void thread_touch(struct rtsup_thread *t)
+{
+	t->gen++;
+}
+
+/*
+ * thread_copy_due - must the reader copy an entry of generation gen out?
+ * seen and again are the reader's own fields of the entry (hooks never
+ * write them): seen is gen + 1 as last copied (0: never copied, so a new
+ * entry is copied whatever its generation), again asks for the second copy.
+ */
+RTSUP_INLINE int thread_copy_due(__u32 gen, __u32 *seen, __u32 *again)
+{
+	if (*seen != gen + 1) {
+		*seen = gen + 1;
+		*again = 1;
+		return 1;
+	}
+	if (*again) {
+		*again = 0;
+		return 1;
+	}
+	return 0;
+}
+
+/*
+ * thread_rec_normalize - the reader's fields of a copy zeroed: two copies
+ * of an entry no hook wrote in between are the same bytes (the model
+ * takes such an interval as empty without reading it)
+ */
+RTSUP_INLINE void thread_rec_normalize(struct rtsup_thread *t)
+{
+	t->read_seen = 0;
+	t->read_again = 0;
+}
+
+#endif

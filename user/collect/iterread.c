@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
+/* iterread.c - one run of a BPF iterator into a kept buffer (iterread.h) */
+#include <errno.h>
+#include <stdlib.h>
+#include <unistd.h>
+#include <bpf/bpf.h>
+#include "collect/iterread.h"
+
+/* the kernel's read of an iterator returns at most its 32 KiB buffer at a time */
+#define ITER_MIN_ROOM	(64 * 1024)
+
+int iter_read(struct iter_buf *b, int link_fd)
+{
+	int fd = bpf_iter_create(link_fd), err = 0;
+	ssize_t r;
+
+	b->len = 0;
+	if (fd < 0)
+		return -errno;
+	for (;;) {
+		if (b->cap - b->len < ITER_MIN_ROOM) {
+			size_t ncap = b->cap ? b->cap * 2 : 2 * ITER_MIN_ROOM;
+			char *p = realloc(b->p, ncap);
+
+			if (!p) {
+				err = -ENOMEM;
+				break;
+			}
+			b->p = p;
+			b->cap = ncap;
+		}
+		r = read(fd, b->p + b->len, b->cap - b->len);
+		if (r < 0 && errno == EINTR)
+			continue;
+		if (r < 0) {
+			err = -errno;
+			break;
+		}
+		if (!r)
+			break;
+		b->len += r;
+	}
+	close(fd);
+	return err;
+}
+
+void iter_buf_free(struct iter_buf *b)
+{
+	free(b->p);
+	b->p = NULL;
+	b->cap = b->len = 0;
+}
