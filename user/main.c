@@ -247,8 +247,7 @@ static void take_health(struct supervisor *s, const struct collector *c, const s
 
 	health_counters(h, c->counters);
 	h->thread_map.entries = c->map_entries;
-	/* the batch reads copy every entry; the iterator only those that changed */
-	h->thread_map_copied = c->skel->links.threads_read ? c->map_changed : c->map_entries;
+	h->thread_map_copied = c->map_copied;
 	h->thread_map.capacity = c->o->max_threads;
 	if (s->can) {
 		h->can_id_map.entries = s->can->n;

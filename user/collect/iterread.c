@@ -2,6 +2,7 @@
 /* iterread.c - one run of a BPF iterator into a kept buffer (iterread.h) */
 #include <errno.h>
 #include <stdlib.h>
+#include <string.h>
 #include <unistd.h>
 #include <bpf/bpf.h>
 #include "collect/iterread.h"
@@ -39,6 +40,48 @@ int iter_read(struct iter_buf *b, int link_fd)
 		if (!r)
 			break;
 		b->len += r;
+	}
+	close(fd);
+	return err;
+}
+
+int iter_read_each(struct iter_buf *b, int link_fd, size_t room,
+		   long (*take)(void *ctx, const char *p, size_t len), void *ctx)
+{
+	int fd = bpf_iter_create(link_fd), err = 0;
+	ssize_t r;
+	long used;
+
+	b->len = 0;
+	if (fd < 0)
+		return -errno;
+	if (b->cap < room + ITER_MIN_ROOM) {
+		char *p = realloc(b->p, room + ITER_MIN_ROOM);
+
+		if (!p) {
+			close(fd);
+			return -ENOMEM;
+		}
+		b->p = p;
+		b->cap = room + ITER_MIN_ROOM;
+	}
+	for (;;) {
+		r = read(fd, b->p + b->len, b->cap - b->len);
+		if (r < 0 && errno == EINTR)
+			continue;
+		if (r <= 0) {
+			err = r < 0 ? -errno : b->len ? -EPROTO : 0;
+			break;
+		}
+		b->len += r;
+		used = take(ctx, b->p, b->len);
+		if (used < 0) {
+			err = (int)used;
+			break;
+		}
+		/* what is left is less than a record: to the front, where records align */
+		memmove(b->p, b->p + used, b->len - used);
+		b->len -= used;
 	}
 	close(fd);
 	return err;

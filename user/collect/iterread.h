@@ -16,6 +16,14 @@ struct iter_buf {
 
 /* iter_read - run the iterator of link 'link_fd' once into b; -errno */
 int iter_read(struct iter_buf *b, int link_fd);
+/*
+ * iter_read_each - the same, given to 'take' as it comes, read by read: b
+ * holds a read's bytes and what the last take left (a record cut between
+ * two reads), never the whole output. 'take' returns the bytes it used from
+ * the front (whole records), or -errno to stop. Bytes left at the end: -EPROTO.
+ */
+int iter_read_each(struct iter_buf *b, int link_fd, size_t room,
+		   long (*take)(void *ctx, const char *p, size_t len), void *ctx);
 void iter_buf_free(struct iter_buf *b);
 
 #endif

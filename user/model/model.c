@@ -522,7 +522,7 @@ static bool life_view_kept(const struct life_hist *l, const struct rtsup_metric_
 	       cur->min == base->min && cur->max == base->max && cur->ewma == base->ewma;
 }
 
-void model_views(struct thread_model *tm, const struct rtsup_thread *t,
+bool model_views(struct thread_model *tm, const struct rtsup_thread *t,
 		 const struct rtsup_thread *prev, __u32 bank)
 {
 	/* the lifetime views were computed from life_hist by the last call */
@@ -538,12 +538,12 @@ void model_views(struct thread_model *tm, const struct rtsup_thread *t,
 	 */
 	if (prev && !memcmp(prev, t, sizeof(*t))) {
 		model_idle(tm);
-		return;
+		return false;
 	}
 	if (life_add(tm, t, prev)) {	/* no lifetime counts: the kernel's buckets */
 		span_window(t, prev, bank, &tm->win);
 		span_life(t, &tm->life);
-		return;
+		return true;
 	}
 	l = tm->life_hist;
 	base = snapshot_base(t, prev);
@@ -560,12 +560,15 @@ void model_views(struct thread_model *tm, const struct rtsup_thread *t,
 		life_counts(l, i, t->m[i].hist, h);
 		view_counts(&t->m[i], h, l->lo[i], l->hi[i], &tm->life.m[i]);
 	}
+	return true;
 }
 
-void model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank)
+bool model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank)
 {
-	model_views(tm, t, tm->cur.first_seen ? &tm->cur : NULL, bank);
+	bool moved = model_views(tm, t, tm->cur.first_seen ? &tm->cur : NULL, bank);
+
 	tm->cur = *t;
+	return moved;
 }
 
 void model_idle(struct thread_model *tm)

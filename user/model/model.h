@@ -168,9 +168,10 @@ void span_window(const struct rtsup_thread *cur, const struct rtsup_thread *prev
 
 /*
  * model_set - a new snapshot of the thread's kernel entry; its interval
- * view is the change since the previous one (none yet: since the start)
+ * view is the change since the previous one (none yet: since the start).
+ * False when it is the same bytes as the previous one.
  */
-void model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank);
+bool model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank);
 /*
  * model_life_counts - metric m's lifetime bucket counts into h[*lo..*hi]
  * (every other count is 0, and h is not written there); false when the
@@ -184,7 +185,7 @@ bool model_win_counts(const struct thread_model *tm, int m, __u64 *h, int *lo, i
  * lifetime views; prev must be the t of the call before. A t equal to
  * prev (a parked thread) costs a compare.
  */
-void model_views(struct thread_model *tm, const struct rtsup_thread *t,
+bool model_views(struct thread_model *tm, const struct rtsup_thread *t,
 		 const struct rtsup_thread *prev, __u32 bank);
 /* model_idle - no snapshot this interval: an empty interval view */
 void model_idle(struct thread_model *tm);
