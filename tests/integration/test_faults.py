@@ -329,8 +329,10 @@ def test_max_threads_reached(tmp_path):
         assert got[tid]["total"]["cycles"] == ours[tid]["cycles"]
     h = summary["health"]
     assert h["untracked_threads"] == 4, h
-    assert h["thread_map"] == {"entries": 4, "capacity": 4, "fill_pct": 100.0,
-                               "near_full": True}, h
+    fill = dict(h["thread_map"])
+    # the entries the last read copied whole: those that changed (threadread.h)
+    assert 0 <= fill.pop("copied") <= 4, h
+    assert fill == {"entries": 4, "capacity": 4, "fill_pct": 100.0, "near_full": True}, h
     assert not h["ok"]
     # every report carries it, and the counter never goes back
     counts = [i["health"]["untracked_threads"] for i in intervals] + [4]
