@@ -934,8 +934,8 @@ static __always_inline __s64 clock_off_of(__u64 clk)
  * cycle state (cycle_sleep_clock), here: kept out of on_sys_enter's
  * locals, which the verifier would carry through every path after
  */
-static __always_inline __u64 sleep_release(struct rtsup_thread *t, struct pt_regs *regs,
-					   __u32 cls, __u64 now, int *absolute, const int btf)
+static __always_inline __u64 sleep_release(struct rtsup_thread *t, __u64 a1, __u64 a2,
+					   __u64 a3, __u32 cls, __u64 now, int *absolute)
 {
 	struct __kernel_timespec ts;
 	void *req;
@@ -944,11 +944,11 @@ static __always_inline __u64 sleep_release(struct rtsup_thread *t, struct pt_reg
 
 	cycle_sleep_clock(&t->cs, 0, 0, 0);
 	if (cls & RTSUP_SC_ABSSLEEP) {
-		clk = SYSARG(btf, regs, 1);
-		flags = SYSARG(btf, regs, 2);
-		req = (void *)SYSARG(btf, regs, 3);
+		clk = a1;
+		flags = a2;
+		req = (void *)a3;
 	} else if (cls & RTSUP_SC_RELSLEEP) {
-		req = (void *)SYSARG(btf, regs, 1);
+		req = (void *)a1;
 	} else {
 		return 0;
 	}
@@ -1057,6 +1057,7 @@ struct delim_in {
 	struct cycle_cfg cf;
 	__u64 now, expected, minflt, majflt;
 	__u64 absolute;
+	__u64 late;	/* the entry of a sleep taken late (cycle_late_entry): its own time */
 };
 
 /*
@@ -1087,10 +1088,18 @@ struct {
 __noinline int delim_cycle(struct rtsup_thread *t, const struct delim_in *in,
 			   struct rtsup_cycle *c)
 {
+	__u32 ev;
+
 	if (!t || !in || !c)
 		return 0;
-	return cycle_delim_enter(t, &in->cf, in->now, in->expected, in->absolute,
-				 in->minflt, in->majflt, c);
+	/* cycle_late_entry, its close the one copy of cycle_delim_enter */
+	if (in->late)
+		cycle_late_swap(&t->cs);
+	ev = cycle_delim_enter(t, &in->cf, in->now, in->expected, in->absolute,
+			       in->minflt, in->majflt, c);
+	if (in->late)
+		cycle_late_restore(&t->cs);
+	return ev;
 }
 
 /*
@@ -1109,7 +1118,8 @@ static __always_inline int delim_of(struct rtsup_thread *t, const struct rtsup_t
 		delim = cls & RTSUP_SC_DELIM;
 	if (delim) {
 		/* the kernel's restart (below) keeps the interrupted sleep's clock */
-		*expected = sleep_release(t, regs, cls, now, absolute, btf);
+		*expected = sleep_release(t, SYSARG(btf, regs, 1), SYSARG(btf, regs, 2),
+					  SYSARG(btf, regs, 3), cls, now, absolute);
 		/* a relative sleep inside an absolute loop is no boundary */
 		if (cycle_rel_sleep_in_loop(t, cls, *absolute))
 			delim = 0;
@@ -1135,7 +1145,7 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 	struct task_struct *task;
 	__u32 nr, *cls, ev;
 	__u64 now, expected = 0;
-	int unsafe, absolute = 0;
+	int unsafe, absolute = 0, delim;
 
 	if (!t || t->exited)
 		return 0;
@@ -1159,7 +1169,11 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 					     TREAD(btf, task, maj_flt)))
 		count(RTSUP_C_DELIM_UNSEEN);
 	tc = thread_cfg_of(tid);
-	if (delim_of(t, tc, regs, nr, *cls, now, &expected, &absolute, btf)) {
+	delim = delim_of(t, tc, regs, nr, *cls, now, &expected, &absolute, btf);
+	/* what a sleep whose entry goes unseen is told by (cycle_entry_skipped) */
+	if (cfg_sys_per)
+		cycle_sys_seen(&t->cs, nr, delim);
+	if (delim) {
 		struct delim_in in = {
 			.cf = cfg(tc), .now = now, .expected = expected, .absolute = absolute,
 			.minflt = TREAD(btf, task, min_flt), .majflt = TREAD(btf, task, maj_flt),
@@ -1205,8 +1219,69 @@ static __always_inline int on_sys_enter(struct pt_regs *regs, long id, const int
 	return 0;
 }
 
-/* on_sys_exit - the delimiter returns: a new cycle is released */
-static __always_inline int on_sys_exit(long ret, const int btf)
+/* late_close's input: the returning syscall's number and first arguments */
+struct late_in {
+	__u64 a1, a2, a3;
+	__u32 nr, pad;
+};
+
+/*
+ * late_close - per-syscall hooks: the delimiter whose entry went unseen
+ * returns; its sleep was taken for the entry (cycle_entry_skipped), whose
+ * cycle closes now at that sleep's time, with the requested release read
+ * from the arguments it still has. A relative sleep inside an absolute
+ * loop is no boundary: it slept inside the cycle, a block counted now (a
+ * keyed delimiter's key is not looked at). A global function, verified
+ * once on its own: inlined in the exit body, 6.1's verifier walked its
+ * paths through the rest of the body, 6 450 more instructions, over the
+ * bound of the whole set (test_per_syscall_hooks_count_exactly...).
+ */
+__noinline int late_close(struct rtsup_thread *t, const struct late_in *li)
+{
+	__u32 nr, *cls, zero = 0, ev;
+	struct rtsup_cycle *c;
+	__u64 expected, at;
+	int absolute = 0;
+
+	if (!t || !li)
+		return 0;
+	nr = li->nr;
+	at = t->cs.late_ts;
+	cls = bpf_map_lookup_elem(&sysclass, &nr);
+	c = bpf_map_lookup_elem(&delim_out, &zero);
+	if (!cls || !c)
+		return 0;	/* it stays unclosed: cycle_delim_exit drops it */
+	expected = sleep_release(t, li->a1, li->a2, li->a3, *cls, at, &absolute);
+	if (cycle_rel_sleep_in_loop(t, *cls, absolute)) {
+		cycle_late_block(t);
+		emit(RTSUP_EV_UNSAFE, t, at, RTSUP_U_BLOCK, t->cs.delim_sys);
+		return 0;
+	}
+	struct delim_in in = { .cf = cfg(thread_cfg_of(t->tid)), .now = at,
+			       .expected = expected, .absolute = absolute, .late = 1,
+			       .minflt = t->cs.late_minflt, .majflt = t->cs.late_majflt };
+
+	ev = delim_cycle(t, &in, c);
+	count(RTSUP_C_DELIM_UNSEEN);
+	if (!(ev & CYC_EV_CLOSED))
+		return 0;
+	/* emit_cycle but a miss's event: a delimiter that slept was not late */
+	flush_sys(t);
+	record_cycle(t, c);
+	if (c->minflt)
+		emit(RTSUP_EV_UNSAFE, t, at, RTSUP_U_MINFLT, c->minflt);
+	if (c->majflt)
+		emit(RTSUP_EV_UNSAFE, t, at, RTSUP_U_MAJFLT, c->majflt);
+	return 0;
+}
+
+/*
+ * on_sys_exit - the delimiter returns: a new cycle is released. 'late':
+ * the per-syscall exit body, which closes a cycle whose delimiter entry
+ * went unseen (late_close); regs are the syscall's there.
+ */
+static __always_inline int on_sys_exit(struct pt_regs *regs, long ret, const int btf,
+				       const int late)
 {
 	__u32 tid = (__u32)bpf_get_current_pid_tgid();
 	struct rtsup_thread *t = lookup_thread(tid);
@@ -1223,11 +1298,21 @@ static __always_inline int on_sys_exit(long ret, const int btf)
 		on_cpu(t, now);
 		running(t, now, btf);
 	}
+	if (late)
+		t->cs.cur_sys = 0;
 	if (!t->cs.in_delim)
 		return 0;
 	settle(t, held_switch_in());
 	/* moved while it slept: no cycle's move, but its CPU from here on */
 	on_cpu(t, 0);
+	if (late && (t->cs.flags & RTSUP_CS_ENTRY_LATE)) {
+		struct late_in li = { .nr = SYSCALL_NR(regs), .a1 = SYSARG(btf, regs, 1),
+				      .a2 = SYSARG(btf, regs, 2), .a3 = SYSARG(btf, regs, 3) };
+
+		late_close(t, &li);
+	}
+	if (!t->cs.in_delim)
+		return 0;	/* no boundary after all */
 	task = CURRENT(btf);
 	/* a step of the sleep's clock (date -s, NTP) moved its release */
 	if (t->cs.clk)
@@ -1431,17 +1516,28 @@ struct switch_out_side_in {
 __noinline int switch_out_state(struct rtsup_thread *pt, const struct switch_out_side_in *in)
 {
 	struct rtsup_cycle *c;
+	__u32 path;
 
 	if (!pt || !in)
 		return 0;
+	path = in->path;
+	if (cfg_block_sys && why_is_block(&pt->cs, in->now, in->voluntary)) {
+		block_syscall(&pt->why);
+		/* per-syscall hooks: a sleep in the delimiter whose entry went unseen */
+		if (cfg_sys_per && cycle_entry_skipped(pt, pt->why.sys_nr, in->now, in->minflt,
+						       in->majflt)) {
+			path = CYC_OUT_DELIM_SLEEP;
+			/* the cycle ends here, as why_delim would end it (no miss: it sleeps) */
+			why_reset(&pt->why.cur);
+			pt->why.out_ts = 0;
+		}
+	}
 	struct switch_out_in so = {
 		.cf = cfg(pt->cs.mode == RTSUP_MODE_DELIM ? NULL : thread_cfg_of(in->prev_tid)),
-		.now = in->now, .path = in->path, .voluntary = in->voluntary,
+		.now = in->now, .path = path, .voluntary = in->voluntary,
 		.minflt = in->minflt, .majflt = in->majflt,
 	};
 
-	if (cfg_block_sys && why_is_block(&pt->cs, in->now, in->voluntary))
-		block_syscall(&pt->why);
 	why_switch_out(&pt->why, &pt->cs, in->now, in->voluntary, in->state);
 	/* a switch-out that reads no clock (asleep in its delimiter) counts no CPU time */
 	if (in->now)
@@ -2120,7 +2216,7 @@ int BPF_PROG(sys_enter_##sfx, struct pt_regs *regs, long id)			\
 { return BODY(on_sys_enter(regs, id, btf)); }					\
 SEC(kind "/sys_exit")								\
 int BPF_PROG(sys_exit_##sfx, struct pt_regs *regs, long ret)			\
-{ return BODY(on_sys_exit(ret, btf)); }							\
+{ return BODY(on_sys_exit(regs, ret, btf, 0)); }					\
 SEC(kind "/sched_switch")							\
 int BPF_PROG(sched_switch_##sfx, bool preempt, struct task_struct *prev,	\
 	     struct task_struct *next)						\
@@ -2196,15 +2292,20 @@ static __always_inline int sys_stub(void *ctx, void *body)
 	return 0;
 }
 
-#define SYS_BODIES(g)								\
+#define SYS_BODIES(g, late)							\
 SEC("fentry")									\
 int BPF_PROG(sys_in_prog##g, struct pt_regs *regs)				\
 { return BODY(on_sys_enter(regs, SYSCALL_NR(regs), 1)); }			\
 SEC("fexit")									\
 int BPF_PROG(sys_out_prog##g, struct pt_regs *regs, long ret)			\
-{ return BODY(on_sys_exit(ret, 1)); }
-SYS_BODIES()
-SYS_BODIES(_z)
+{ return BODY(on_sys_exit(regs, ret, 1, late)); }
+SYS_BODIES(, 1)
+/*
+ * syscalls without arguments (restart_syscall, sched_yield...): no late
+ * entry, whose release is read from the arguments; a delimiter among them
+ * whose entry went unseen loses that cycle at its return (cycle_delim_exit)
+ */
+SYS_BODIES(_z, 0)
 
 #define SYS_IN(n, g)								\
 SEC("fentry")									\

@@ -534,6 +534,11 @@ RTSUP_INLINE void cycle_delim_exit(struct rtsup_thread *t, __u64 now, int interr
 
 	if (path == CYC_EXIT_NONE)
 		return;
+	if (cs->flags & RTSUP_CS_ENTRY_LATE) {
+		/* taken for an entry (cycle_entry_skipped), never closed: that cycle is lost */
+		cs->flags &= ~RTSUP_CS_ENTRY_LATE;
+		cs->last_start = 0;
+	}
 	cs->in_delim = 0;
 	if (interrupted)
 		cs->flags |= RTSUP_CS_INTR;
@@ -578,10 +583,128 @@ RTSUP_INLINE int cycle_exit_missed(struct rtsup_thread *t, __u64 minflt, __u64 m
 	if (cycle_delim_exit_path(cs, 0) == CYC_EXIT_SWITCHED_IN) {
 		cycle_delim_exit(t, cs->in_ts, 0, minflt, majflt);
 	} else {
+		cs->flags &= ~RTSUP_CS_ENTRY_LATE;
 		cs->in_delim = 0;
 		cs->last_start = 0;
 	}
 	return 1;
+}
+
+/*
+ * cycle_sys_seen - per-syscall hooks: the thread enters syscall nr, its
+ * delimiter when 'delim'. What cycle_entry_skipped compares a sleep with.
+ */
+RTSUP_INLINE void cycle_sys_seen(struct rtsup_cycle_state *cs, __u32 nr, int delim)
+{
+	cs->cur_sys = nr + 1;
+	if (delim)
+		cs->delim_sys = nr + 1;
+}
+
+/*
+ * cycle_entry_skipped - per-syscall hooks: the thread leaves its CPU to
+ * wait (a block inside its cycle, by its state) in syscall 'sys' (+ 1,
+ * read from its registers), its own delimiter, whose entry no hook saw:
+ * the kernel skipped that run (docs/design.md, "Runs the kernel skips").
+ * That wait is the delimiter's sleep, not a block: the cycle ends here.
+ * Its close needs the requested release, read at the return
+ * (cycle_late_entry): until then the cycle as it is now is kept, and the
+ * thread is in its delimiter, asleep. 1 when so taken.
+ */
+RTSUP_INLINE int cycle_entry_skipped(struct rtsup_thread *t, __u32 sys, __u64 now,
+				     __u64 minflt, __u64 majflt)
+{
+	struct rtsup_cycle_state *cs = &t->cs;
+
+	if (!sys || sys != cs->delim_sys || sys == cs->cur_sys || cs->in_delim || !cs->start ||
+	    cs->mode != RTSUP_MODE_DELIM || !now)
+		return 0;
+	if (cs->run_since && now > cs->run_since)
+		cs->cpu_acc += now - cs->run_since;
+	cs->late_ts = now;
+	cs->late_cpu = cs->cpu_acc;
+	cs->late_preempt = cs->preempt;
+	cs->late_minflt = minflt;
+	cs->late_majflt = majflt;
+	cs->flags |= RTSUP_CS_ENTRY_LATE;
+	cs->cur_sys = sys;
+	cs->in_delim = 1;
+	cs->in_ts = 0;
+	cs->wake_ts = 0;
+	cs->expected = 0;
+	return 1;
+}
+
+/*
+ * cycle_late_swap - before the late entry (cycle_late_entry), whose time
+ * and fault counts its caller took from late_ts, late_minflt and
+ * late_majflt: the cycle as it was at the sleep comes back, and what came
+ * since (its release at a switch-in, the CPU time after it) goes to the
+ * late_* fields. No stack: 6.1 allows 512 bytes for the deepest chain of
+ * calls, and delim_cycle is in one (a 40-byte copy there made it 544).
+ */
+RTSUP_INLINE void cycle_late_swap(struct rtsup_cycle_state *cs)
+{
+	__u64 cpu = cs->cpu_acc;
+	__u32 preempt = cs->preempt;
+
+	cs->flags &= ~RTSUP_CS_ENTRY_LATE;
+	cs->cpu_acc = cs->late_cpu;
+	cs->late_cpu = cpu;
+	cs->preempt = cs->late_preempt;
+	cs->late_preempt = preempt;
+	cs->late_ts = cs->in_ts;
+	cs->late_minflt = cs->wake_ts;
+	cs->late_majflt = cs->run_since;
+	cs->run_since = 0;
+}
+
+/* cycle_late_restore - after the late entry: what came since the sleep again */
+RTSUP_INLINE void cycle_late_restore(struct rtsup_cycle_state *cs)
+{
+	cs->in_ts = cs->late_ts;
+	cs->cpu_acc = cs->late_cpu;
+	cs->preempt = cs->late_preempt;
+	cs->run_since = cs->late_majflt;
+	cs->wake_ts = cs->late_minflt;
+}
+
+/*
+ * cycle_late_entry - the delimiter whose entry went unseen returns (before
+ * cycle_delim_exit): its entry now, as it was at the switch-out
+ * cycle_entry_skipped took, with the requested release read from its
+ * arguments. What came since is kept for cycle_delim_exit. CYC_EV_* as
+ * cycle_delim_enter. The kernel side calls the parts from delim_cycle,
+ * which holds the only copy of cycle_delim_enter.
+ */
+RTSUP_INLINE __u32 cycle_late_entry(struct rtsup_thread *t, const struct cycle_cfg *cfg,
+				    __u64 expected, int absolute, struct rtsup_cycle *out)
+{
+	struct rtsup_cycle_state *cs = &t->cs;
+	__u64 at = cs->late_ts, minflt = cs->late_minflt, majflt = cs->late_majflt;
+	__u32 ev;
+
+	cycle_late_swap(cs);
+	ev = cycle_delim_enter(t, cfg, at, expected, absolute, minflt, majflt, out);
+	cycle_late_restore(cs);
+	return ev;
+}
+
+/*
+ * cycle_late_block - the syscall cycle_entry_skipped took for the
+ * delimiter is no boundary after all (a relative sleep inside an absolute
+ * loop): its sleep was a block inside the cycle, counted now. CYC_EV_BLOCK.
+ */
+RTSUP_INLINE __u32 cycle_late_block(struct rtsup_thread *t)
+{
+	struct rtsup_cycle_state *cs = &t->cs;
+
+	cs->flags &= ~RTSUP_CS_ENTRY_LATE;
+	cs->in_delim = 0;
+	cs->cpu_acc += cs->late_cpu;
+	cs->preempt += cs->late_preempt;
+	cs->blocks++;
+	return CYC_EV_BLOCK;
 }
 
 /*

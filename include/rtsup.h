@@ -142,6 +142,8 @@ enum rtsup_mode {
 #define RTSUP_CS_ABS_SEEN	0x02	/* the thread has slept to absolute releases */
 #define RTSUP_CS_SETTLED	0x04	/* the period settled: start-up is over */
 #define RTSUP_CS_DIRTY		0x08	/* start-up cycles were counted: drop them at settling */
+/* the delimiter's entry went unseen, its sleep taken as the entry: replayed at its return */
+#define RTSUP_CS_ENTRY_LATE	0x10
 
 /*
  * Log-linear histogram: values below 2^HIST_SUB_BITS get a bucket each,
@@ -226,7 +228,7 @@ struct rtsup_cycle_state {
 	__u64 majflt0;
 	__u32 mode;		/* enum rtsup_mode */
 	__u32 in_delim;		/* inside a delimiter syscall */
-	__u32 cur_sys;		/* syscall in progress + 1, 0 = none */
+	__u32 cur_sys;		/* per-syscall hooks: last syscall entered + 1, 0 = returned */
 	__s32 last_cpu;
 	__u32 preempt;
 	__u32 blocks;
@@ -245,6 +247,18 @@ struct rtsup_cycle_state {
 	/* unsafe syscalls of the running cycle, by number, counted at its end */
 	__u16 pend_nr[RTSUP_PEND_SYS];
 	__u16 pend_cnt[RTSUP_PEND_SYS];
+	/*
+	 * per-syscall hooks: the thread's delimiter syscall + 1 (0 = none seen),
+	 * and a sleep in it whose entry went unseen (RTSUP_CS_ENTRY_LATE): the
+	 * cycle as it was at that switch-out, closed at the return; while it
+	 * closes, what came since (cycle_late_swap in cycle.h)
+	 */
+	__u32 delim_sys;
+	__u32 late_preempt;
+	__u64 late_ts;
+	__u64 late_cpu;
+	__u64 late_minflt;
+	__u64 late_majflt;
 };
 
 /*
@@ -501,7 +515,7 @@ enum rtsup_counter {
 	RTSUP_C_CYC_DROPS,	/* cycle records the recording buffer had no room for */
 	RTSUP_C_CAN_FULL,	/* CAN frames whose identifier did not fit the id map */
 	RTSUP_C_WHY_BUSY,	/* target wakeups not attributed: another target waited there */
-	RTSUP_C_DELIM_UNSEEN,	/* delimiter returns the hooks skipped, recovered */
+	RTSUP_C_DELIM_UNSEEN,	/* delimiter entries and returns the hooks skipped, recovered */
 	RTSUP_C_NR,
 };
 

@@ -558,6 +558,177 @@ static void test_cycle_exit_missed_without_switch_in(void **state)
 	assert_int_equal(f->t.cycles, 3);
 }
 
+/*
+ * Per-syscall hooks whose delimiter entry the kernel skipped (its stub's
+ * recursion check, docs/design.md "Runs the kernel skips"). DELIM_NR is
+ * the thread's delimiter syscall; the hooks tell the state machine which
+ * syscall they saw enter (cycle_sys_seen) and read the one a thread
+ * sleeps in from its registers (+ 1).
+ */
+#define DELIM_NR	230
+
+/* per_enter - the delimiter's entry, seen: as on_sys_enter with per-syscall hooks */
+static __u32 per_enter(struct fx *f, __u64 now, __u64 expected)
+{
+	__u32 ev;
+
+	exit_missed(f);
+	ev = enter(f, now, expected);
+	cycle_sys_seen(&f->t.cs, DELIM_NR, 1);
+	return ev;
+}
+
+/* per_out - a voluntary switch-out in syscall 'sys' (+ 1), as switch_out_state judges it */
+static __u32 per_out(struct fx *f, __u64 now, __u32 sys)
+{
+	enum cycle_out_path path;
+
+	settle(f);
+	path = cycle_switch_out_path(&f->t.cs, 1);
+	if (path == CYC_OUT_BLOCK &&
+	    cycle_entry_skipped(&f->t, sys, now, f->minflt, f->majflt))
+		path = CYC_OUT_DELIM_SLEEP;
+	return cycle_switch_out_on(&f->t, &f->cfg, path, now, 1, f->minflt, f->majflt,
+				   &f->out);
+}
+
+/*
+ * per_leave - the delimiter returns (seen), the requested release read
+ * from its arguments: the late entry first if its entry went unseen
+ * (on_sys_exit's late_entry). Returns the late entry's CYC_EV_* bits.
+ */
+static __u32 per_leave(struct fx *f, __u64 now, __u64 expected)
+{
+	__u32 ev = 0;
+
+	on_cpu(f);
+	f->t.cs.cur_sys = 0;
+	if (f->t.cs.flags & RTSUP_CS_ENTRY_LATE)
+		ev = cycle_late_entry(&f->t, &f->cfg, expected, 1, &f->out);
+	leave(f, now);
+	return ev;
+}
+
+/* per_steady - steady()'s cycles through the per-syscall hooks */
+static __u64 per_steady(struct fx *f, __u64 now, int first, int last)
+{
+	int k;
+
+	for (k = first; k <= last; k++) {
+		per_enter(f, now, rel(k));
+		assert_int_equal(per_out(f, now + 1 * US, DELIM_NR + 1), 0);
+		cycle_wakeup(&f->t, rel(k) + 2 * US);
+		assert_int_equal(sw_in(f, rel(k) + LAT), 0);
+		assert_int_equal(per_leave(f, rel(k) + LAT + 1 * US, rel(k)), 0);
+		now = rel(k) + LAT + EXEC;
+	}
+	return now;
+}
+
+/*
+ * the delimiter's entry skipped: its sleep is no block in the cycle but
+ * the entry, the cycle closed at it once the return says the release
+ * (CI: 1 or 2 such "blocks" in clock_nanosleep a run in the RT guests)
+ */
+static void test_cycle_entry_skipped_sleep_is_the_entry(void **state)
+{
+	struct fx *f = *state;
+	__u64 now = per_steady(f, rel(0), 1, 2);
+
+	assert_int_equal(f->t.cycles, 1);
+	/* release 3's entry unseen: it sleeps in its delimiter, "inside" cycle 2 */
+	f->minflt = 7;
+	assert_int_equal(per_out(f, now, DELIM_NR + 1), 0);
+	assert_true(f->t.cs.in_delim);
+	assert_int_equal(f->t.cs.blocks, 0);
+	cycle_wakeup(&f->t, rel(3) + 2 * US);
+	assert_int_equal(sw_in(f, rel(3) + LAT), 0);
+	assert_int_equal(per_leave(f, rel(3) + LAT + 1 * US, rel(3)),
+			 CYC_EV_CLOSED | CYC_EV_FAULTS);
+	/* cycle 2, closed at its sleep */
+	assert_int_equal(f->out.start, rel(2) + LAT);
+	assert_int_equal(f->out.exec, EXEC);
+	assert_int_equal(f->out.cpu, EXEC);
+	assert_int_equal(f->out.blocks, 0);
+	assert_int_equal(f->out.minflt, 7);
+	assert_int_equal(f->out.period, MS);
+	assert_int_equal(f->t.cycles, 2);
+	assert_false(f->t.cs.flags & RTSUP_CS_ENTRY_LATE);
+	/* cycle 3 began at its switch-in */
+	assert_int_equal(f->t.cs.start, rel(3) + LAT);
+	f->minflt = 9;	/* the next cycle's */
+	assert_int_equal(per_enter(f, rel(3) + LAT + EXEC, rel(4)),
+			 CYC_EV_CLOSED | CYC_EV_FAULTS);
+	assert_int_equal(f->out.start, rel(3) + LAT);
+	assert_int_equal(f->out.exec, EXEC);
+	assert_int_equal(f->out.period, MS);
+	assert_int_equal(f->out.latency, LAT);
+	assert_int_equal(f->out.minflt, 2);
+	assert_int_equal(f->out.blocks, 0);
+	assert_int_equal(f->t.cycles, 3);
+	assert_int_equal(f->t.unsafe[RTSUP_U_BLOCK], 0);
+}
+
+/* a wait whose entry was seen, or in another syscall, stays a block */
+static void test_cycle_entry_seen_block_stays(void **state)
+{
+	struct fx *f = *state;
+	__u64 s = rel(2) + LAT;
+
+	per_steady(f, rel(0), 1, 2);
+	/* a futex wait (seen or not: no delimiter) */
+	assert_int_equal(per_out(f, s + 50 * US, 202 + 1), CYC_EV_BLOCK);
+	assert_int_equal(sw_in(f, s + 100 * US), 0);
+	/* a relative sleep inside the absolute loop: seen, no boundary */
+	cycle_sys_seen(&f->t.cs, DELIM_NR, 0);
+	assert_int_equal(per_out(f, s + 150 * US, DELIM_NR + 1), CYC_EV_BLOCK);
+	assert_int_equal(sw_in(f, s + 160 * US), 0);
+	assert_int_equal(per_enter(f, s + 200 * US, rel(3)), CYC_EV_CLOSED);
+	assert_int_equal(f->out.blocks, 2);
+	assert_int_equal(f->t.unsafe[RTSUP_U_BLOCK], 2);
+}
+
+/* taken for the entry, no boundary after all (a relative sleep, its arguments say): a block */
+static void test_cycle_entry_skipped_no_boundary(void **state)
+{
+	struct fx *f = *state;
+	__u64 s = rel(2) + LAT;
+
+	per_steady(f, rel(0), 1, 2);
+	assert_int_equal(per_out(f, s + 50 * US, DELIM_NR + 1), 0);
+	assert_int_equal(sw_in(f, s + 100 * US), 0);
+	on_cpu(f);
+	assert_int_equal(cycle_late_block(&f->t), CYC_EV_BLOCK);
+	assert_false(f->t.cs.in_delim);
+	assert_int_equal(per_enter(f, s + 200 * US, rel(3)), CYC_EV_CLOSED);
+	assert_int_equal(f->out.start, s);
+	assert_int_equal(f->out.exec, 200 * US);
+	assert_int_equal(f->out.cpu, 150 * US);
+	assert_int_equal(f->out.blocks, 1);
+	assert_int_equal(f->t.cycles, 2);
+}
+
+/* its return skipped as well: the cycle it would close is lost, and the next period */
+static void test_cycle_entry_and_exit_skipped(void **state)
+{
+	struct fx *f = *state;
+	__u64 now = per_steady(f, rel(0), 1, 2);
+
+	assert_int_equal(per_out(f, now, DELIM_NR + 1), 0);
+	assert_int_equal(sw_in(f, rel(3) + LAT), 0);
+	/* no return seen: the next entry finds it in its delimiter, released at its switch-in */
+	assert_int_equal(per_enter(f, rel(3) + LAT + EXEC, rel(4)), CYC_EV_CLOSED);
+	assert_false(f->t.cs.flags & RTSUP_CS_ENTRY_LATE);
+	assert_int_equal(f->out.start, rel(3) + LAT);
+	assert_int_equal(f->out.exec, EXEC);
+	assert_false(f->out.flags & RTSUP_CF_HAS_PERIOD);	/* it would span two */
+	assert_int_equal(f->t.cycles, 2);	/* cycle 2 is lost */
+	wake_up(f, 4);
+	assert_int_equal(per_enter(f, rel(4) + LAT + EXEC, rel(5)), CYC_EV_CLOSED);
+	assert_int_equal(f->out.period, MS);
+	assert_int_equal(f->t.unsafe[RTSUP_U_BLOCK], 0);
+}
+
 /* migration inside a cycle counts as unsafe; at the release it does not */
 static void test_cycle_migration(void **state)
 {
@@ -1607,6 +1778,10 @@ int main(void)
 		T(test_cycle_block_in_cycle),
 		T(test_cycle_exit_missed_released_at_switch_in),
 		T(test_cycle_exit_missed_without_switch_in),
+		T(test_cycle_entry_skipped_sleep_is_the_entry),
+		T(test_cycle_entry_seen_block_stays),
+		T(test_cycle_entry_skipped_no_boundary),
+		T(test_cycle_entry_and_exit_skipped),
 		T(test_cycle_switch_voluntary_states),
 		T(test_cycle_rtlock_wait_in_cycle),
 		T(test_cycle_miss_overrun),
