@@ -565,11 +565,16 @@ static void take_rest(struct collector *c, struct thread_model *tm, __u32 tid,
 	rt_left_by_read(c, tm);
 }
 
-/* take - one thread's new kernel snapshot into the model */
-static int take(struct collector *c, __u32 tid, const struct rtsup_thread *t)
+/*
+ * take - one thread's new kernel snapshot, a copy of its entry, into the
+ * model; the copy's reader fields zeroed first (thread_rec_normalize)
+ */
+static int take(struct collector *c, __u32 tid, struct rtsup_thread *t)
 {
 	struct thread_model *tm = model_get(&c->model, tid, true);
 
+	c->map_copied++;
+	thread_rec_normalize(t);
 	if (!tm)
 		return -ENOMEM;
 	if (!tm->cur.first_seen)
@@ -599,7 +604,6 @@ static int take_same(struct collector *c, __u32 tid)
 	if (!tm || !tm->cur.first_seen) {
 		if (bpf_map_lookup_elem(bpf_map__fd(c->skel->maps.threads), &tid, c->batch_vals))
 			return 0;	/* gone since: as if never read */
-		thread_rec_normalize(c->batch_vals);
 		return take(c, tid, c->batch_vals);
 	}
 	model_idle(tm);
@@ -615,7 +619,7 @@ static int take_same(struct collector *c, __u32 tid)
  * read (an entry added to the hash bucket being read moves the others by
  * one) is taken once.
  */
-static long take_recs(void *ctx, const char *p, size_t len)
+static long take_recs(void *ctx, char *p, size_t len)
 {
 	struct collector *c = ctx;
 	struct rtsup_thread_rec r;
@@ -635,8 +639,6 @@ static long take_recs(void *ctx, const char *p, size_t len)
 			/* records of 8-byte multiples from the buffer's front: aligned */
 			struct rtsup_thread *t = (void *)(p + off + sizeof(r));
 
-			c->map_copied++;
-			thread_rec_normalize(t);
 			err = take(c, r.tid, t);
 		} else {
 			err = take_same(c, r.tid);
@@ -655,7 +657,7 @@ static long take_recs(void *ctx, const char *p, size_t len)
 static int read_changed(struct collector *c)
 {
 	return iter_read_each(&c->threads_out, bpf_link__fd(c->skel->links.threads_read),
-			      THREAD_REC_FULL, take_recs, c);
+			      take_recs, c);
 }
 
 /* read_one_by_one - the thread map without batch operations (kernels < 5.6) */
@@ -670,8 +672,6 @@ static int read_one_by_one(struct collector *c, int fd)
 		/* deleted since its key was read: gone, like a key never read */
 		if (bpf_map_lookup_elem(fd, &key, c->batch_vals))
 			continue;
-		c->map_copied++;
-		thread_rec_normalize(c->batch_vals);
 		if (take(c, key, c->batch_vals))
 			return -ENOMEM;
 	}
@@ -743,8 +743,6 @@ static int read_threads(struct collector *c)
 		}
 		for (i = 0; i < n; i++) {
 			c->map_entries++;
-			c->map_copied++;
-			thread_rec_normalize(&c->batch_vals[i]);
 			if (take(c, c->batch_keys[i], &c->batch_vals[i]))
 				return -ENOMEM;
 		}

@@ -10,43 +10,25 @@
 /* the kernel's read of an iterator returns at most its 32 KiB buffer at a time */
 #define ITER_MIN_ROOM	(64 * 1024)
 
-int iter_read(struct iter_buf *b, int link_fd)
+/* room_for_a_read - ITER_MIN_ROOM free at b's end at least; -ENOMEM */
+static int room_for_a_read(struct iter_buf *b)
 {
-	int fd = bpf_iter_create(link_fd), err = 0;
-	ssize_t r;
+	size_t ncap;
+	char *p;
 
-	b->len = 0;
-	if (fd < 0)
-		return -errno;
-	for (;;) {
-		if (b->cap - b->len < ITER_MIN_ROOM) {
-			size_t ncap = b->cap ? b->cap * 2 : 2 * ITER_MIN_ROOM;
-			char *p = realloc(b->p, ncap);
-
-			if (!p) {
-				err = -ENOMEM;
-				break;
-			}
-			b->p = p;
-			b->cap = ncap;
-		}
-		r = read(fd, b->p + b->len, b->cap - b->len);
-		if (r < 0 && errno == EINTR)
-			continue;
-		if (r < 0) {
-			err = -errno;
-			break;
-		}
-		if (!r)
-			break;
-		b->len += r;
-	}
-	close(fd);
-	return err;
+	if (b->cap - b->len >= ITER_MIN_ROOM)
+		return 0;
+	ncap = b->cap ? b->cap * 2 : 2 * ITER_MIN_ROOM;
+	p = realloc(b->p, ncap);
+	if (!p)
+		return -ENOMEM;
+	b->p = p;
+	b->cap = ncap;
+	return 0;
 }
 
-int iter_read_each(struct iter_buf *b, int link_fd, size_t room,
-		   long (*take)(void *ctx, const char *p, size_t len), void *ctx)
+int iter_read_each(struct iter_buf *b, int link_fd,
+		   long (*take)(void *ctx, char *p, size_t len), void *ctx)
 {
 	int fd = bpf_iter_create(link_fd), err = 0;
 	ssize_t r;
@@ -55,25 +37,20 @@ int iter_read_each(struct iter_buf *b, int link_fd, size_t room,
 	b->len = 0;
 	if (fd < 0)
 		return -errno;
-	if (b->cap < room + ITER_MIN_ROOM) {
-		char *p = realloc(b->p, room + ITER_MIN_ROOM);
-
-		if (!p) {
-			close(fd);
-			return -ENOMEM;
-		}
-		b->p = p;
-		b->cap = room + ITER_MIN_ROOM;
-	}
 	for (;;) {
+		err = room_for_a_read(b);
+		if (err)
+			break;
 		r = read(fd, b->p + b->len, b->cap - b->len);
 		if (r < 0 && errno == EINTR)
 			continue;
 		if (r <= 0) {
-			err = r < 0 ? -errno : b->len ? -EPROTO : 0;
+			err = r < 0 ? -errno : take && b->len ? -EPROTO : 0;
 			break;
 		}
 		b->len += r;
+		if (!take)
+			continue;
 		used = take(ctx, b->p, b->len);
 		if (used < 0) {
 			err = (int)used;
@@ -85,6 +62,11 @@ int iter_read_each(struct iter_buf *b, int link_fd, size_t room,
 	}
 	close(fd);
 	return err;
+}
+
+int iter_read(struct iter_buf *b, int link_fd)
+{
+	return iter_read_each(b, link_fd, NULL, NULL);
 }
 
 void iter_buf_free(struct iter_buf *b)

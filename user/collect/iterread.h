@@ -19,11 +19,13 @@ int iter_read(struct iter_buf *b, int link_fd);
 /*
  * iter_read_each - the same, given to 'take' as it comes, read by read: b
  * holds a read's bytes and what the last take left (a record cut between
- * two reads), never the whole output. 'take' returns the bytes it used from
- * the front (whole records), or -errno to stop. Bytes left at the end: -EPROTO.
+ * two reads), never the whole output, as long as a record is smaller than
+ * a read (32 KiB). 'take' returns the bytes it used from the front (whole
+ * records), or -errno to stop. Bytes left at the end: -EPROTO. Without
+ * 'take' (iter_read), b keeps it all.
  */
-int iter_read_each(struct iter_buf *b, int link_fd, size_t room,
-		   long (*take)(void *ctx, const char *p, size_t len), void *ctx);
+int iter_read_each(struct iter_buf *b, int link_fd,
+		   long (*take)(void *ctx, char *p, size_t len), void *ctx);
 void iter_buf_free(struct iter_buf *b);
 
 #endif

@@ -183,7 +183,7 @@ bool model_win_counts(const struct thread_model *tm, int m, __u64 *h, int *lo, i
 /*
  * model_views - the interval (t minus prev, NULL: since the start) and
  * lifetime views; prev must be the t of the call before. A t equal to
- * prev (a parked thread) costs a compare.
+ * prev (a parked thread) costs a compare, and returns false.
  */
 bool model_views(struct thread_model *tm, const struct rtsup_thread *t,
 		 const struct rtsup_thread *prev, __u32 bank);
