@@ -29,6 +29,8 @@
 #include "judge/supervise.h"
 #include "collect/targets.h"
 #include "collect/selfsched.h"
+#include "collect/statsfloor.h"
+#include "judge/overhead.h"
 #include "can.h"	/* the skeleton's .bss holds can_if_slot */
 #include "rtsup.skel.h"
 
@@ -161,45 +163,51 @@ static pid_t spawn_cmd(char **cmd, int *go_fd)
 #define OVERHEAD_EVERY 30
 #define OVERHEAD_WINDOW 100000000ULL	/* ns */
 
-#define OVERHEAD_CLOSED	-1	/* rt0: no window open */
-#define OVERHEAD_NONE	-1.0	/* pct: nothing measured (yet, or --no-overhead) */
-
 struct overhead {
-	long long rt0;		/* run time when the window opened, or OVERHEAD_CLOSED */
+	bool open;		/* a window is open */
+	__u64 rt0, runs0;	/* our programs' run time and runs when it opened */
 	__u64 t0, end;		/* when the window opened, when it closes */
-	double pct;		/* the last measure, or OVERHEAD_NONE */
+	struct stats_window last;	/* the last window closed (overhead.h) */
+	struct stats_floor floor;	/* its floor's empty program */
 	unsigned int n;		/* intervals so far */
 };
 
 /* overhead_close - close the open window once it is due (or now, 'force') */
 static void overhead_close(struct overhead *ov, struct loader *l, __u64 now, bool force)
 {
-	long long rt;
+	__u64 rt, runs;
 
-	if (ov->rt0 == OVERHEAD_CLOSED || (!force && now < ov->end))
+	if (!ov->open || (!force && now < ov->end))
 		return;
-	rt = loader_run_time(l);
-	if (rt >= 0 && now > ov->t0)
-		ov->pct = (rt - ov->rt0) / (double)(now - ov->t0) * 100;
+	if (!loader_run_sums(l, &rt, &runs) && now > ov->t0) {
+		ov->last.wall_ns = now - ov->t0;
+		ov->last.run_ns = rt - ov->rt0;
+		ov->last.runs = runs - ov->runs0;
+	}
 	loader_stats(l, false);
-	ov->rt0 = OVERHEAD_CLOSED;
+	ov->open = false;
 }
 
-/* overhead_interval - an interval begins: maybe open a window; the last measure */
-static double overhead_interval(struct overhead *ov, struct loader *l, const struct options *o,
-				__u64 now, bool last)
+/*
+ * overhead_interval - an interval begins: maybe open a window (its floor
+ * measured first: the window times our programs only); the last window
+ */
+static const struct stats_window *overhead_interval(struct overhead *ov, struct loader *l,
+						    const struct options *o, __u64 now, bool last)
 {
 	__u64 len = (__u64)(o->interval * 1e9);
 
 	if (o->no_overhead)
-		return OVERHEAD_NONE;
+		return NULL;
 	overhead_close(ov, l, now, true);
 	if (!last && ov->n++ % OVERHEAD_EVERY == 0 && !loader_stats(l, true)) {
-		ov->rt0 = loader_run_time(l);
+		ov->last.floor_ns = stats_floor_measure(&ov->floor);
+		now = mono_now();
+		ov->open = !loader_run_sums(l, &ov->rt0, &ov->runs0);
 		ov->t0 = now;
 		ov->end = now + (len < OVERHEAD_WINDOW ? len : OVERHEAD_WINDOW);
 	}
-	return ov->pct;
+	return ov->last.wall_ns ? &ov->last : NULL;
 }
 
 /* The main loop's own schedstat at the start and at the last interval's end. */
@@ -229,10 +237,11 @@ static void loop_clock_take(struct loop_clock *lc, struct self_in *in)
 
 /* self_in - what the supervisor knows about itself this interval */
 static void self_in(struct self_in *in, const struct collector *c, const struct supervisor *s,
-		    double overhead_pct, __u64 *last_drops)
+		    const struct stats_window *stats, __u64 *last_drops)
 {
 	in->th = &s->cfg.defaults.th;
-	in->overhead_pct = overhead_pct;
+	in->stats = stats ? *stats : (struct stats_window){ .floor_ns = -1 };
+	in->overhead_pct = stats_overhead_pct(&in->stats);
 	/* the interval's: the counters never go back (read_counters) */
 	in->lost_events = lost_records(c->counters) - *last_drops;
 	*last_drops = lost_records(c->counters);
@@ -360,7 +369,7 @@ static int run_live(struct options *o, struct supervisor *s)
 	struct can_model cm;
 	struct actions act;
 	__u64 start, next, last, now, end = 0, last_drops = 0;
-	struct overhead ov = { .rt0 = OVERHEAD_CLOSED, .pct = OVERHEAD_NONE };
+	struct overhead ov = { .open = false, .floor = { .fd = -1 } };
 	pid_t child = -1;
 	int go_fd = -1, status = 0, err = 1;
 	enum level worst = LEVEL_OK;
@@ -440,7 +449,7 @@ static int run_live(struct options *o, struct supervisor *s)
 			__u64 until = end && end < next ? end : next;
 			int ms;
 
-			if (ov.rt0 >= 0 && ov.end < until)
+			if (ov.open && ov.end < until)
 				until = ov.end;
 			ms = (until - now) / 1000000 + 1;
 			if (collector_poll(&c, ms > COLLECTOR_POLL_MAX_MS ? COLLECTOR_POLL_MAX_MS : ms) < 0)
@@ -496,6 +505,7 @@ out:
 	}
 	collector_free(&c);
 	loader_stop(&l);
+	stats_floor_close(&ov.floor);
 out_child:
 	robot_stop(&rb);	/* the exporters opened before loading */
 	if (go_fd >= 0)

@@ -742,13 +742,13 @@ fail:
  * run (with --floor, the empty ones); -1 when one program's info could not
  * be read (its numbers are left out)
  */
-static int prog_info_sums(const struct loader *l, __u64 *run_time, __u64 *missed)
+static int prog_info_sums(const struct loader *l, __u64 *run_time, __u64 *runs, __u64 *missed)
 {
 	struct bpf_prog_info info;
 	struct bpf_program *p;
 	int err = 0, r;
 
-	*run_time = *missed = 0;
+	*run_time = *runs = *missed = 0;
 	bpf_object__for_each_program(p, l->floor ? l->floor->obj : l->skel->obj) {
 		r = prog_info(p, &info);
 		if (r < 0)
@@ -756,23 +756,24 @@ static int prog_info_sums(const struct loader *l, __u64 *run_time, __u64 *missed
 		if (r)
 			continue;	/* unreadable, or the program set we did not load */
 		*run_time += info.run_time_ns;
+		*runs += info.run_cnt;
 		*missed += info.recursion_misses;
 	}
 	return err;
 }
 
-long long loader_run_time(const struct loader *l)
+int loader_run_sums(const struct loader *l, __u64 *run_ns, __u64 *runs)
 {
-	__u64 run_time, missed;
+	__u64 missed;
 
-	return prog_info_sums(l, &run_time, &missed) ? -1 : (long long)run_time;
+	return prog_info_sums(l, run_ns, runs, &missed);
 }
 
 __u64 loader_runs_missed(const struct loader *l)
 {
-	__u64 run_time, missed;
+	__u64 run_time, runs, missed;
 
-	prog_info_sums(l, &run_time, &missed);
+	prog_info_sums(l, &run_time, &runs, &missed);
 	return missed;
 }
 

@@ -33,10 +33,11 @@ struct loader {
 int loader_start(struct loader *l, const struct options *o);
 void loader_stop(struct loader *l);
 /*
- * loader_run_time - total run time of our programs in ns, from the kernel's
- * BPF statistics (switched on while we run); -1 when they are unavailable.
+ * loader_run_sums - total run time of our programs in ns and their runs,
+ * from the kernel's BPF statistics (switched on while we run); -1 when
+ * one program's could not be read.
  */
-long long loader_run_time(const struct loader *l);
+int loader_run_sums(const struct loader *l, __u64 *run_ns, __u64 *runs);
 /*
  * loader_runs_missed - runs of our programs the kernel skipped because the
  * same program was already running on that CPU (a wakeup from an interrupt

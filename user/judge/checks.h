@@ -13,6 +13,7 @@
 #include "model/model.h"
 #include "judge/status.h"
 #include "collect/selfsched.h"
+#include "judge/overhead.h"
 
 /* Check names: what each message of a verdict says it came from (docs/json.md). */
 #define CHECK_EXCEPTION		"exception"
@@ -62,7 +63,8 @@ void check_thread(const struct check_in *in, struct status *out);
 
 /* What the supervisor knows about itself. */
 struct self_in {
-	double overhead_pct;		/* BPF run time over the interval, % of one CPU; <0 unknown */
+	double overhead_pct;		/* our BPF programs' own run time, % of one CPU; <0 unknown */
+	struct stats_window stats;	/* the window it was measured in (wall_ns 0: none) */
 	__u64 lost_events;		/* ring buffer drops in the interval */
 	__u64 untracked_threads;	/* threads the map could not hold, in total */
 	struct self_span loop;		/* the main loop's CPU and run-queue wait, this interval */

@@ -226,6 +226,7 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 		judge(s, comp, &old, &st, &tm->worst, now, tm);
 	}
 	s->overhead_pct = self->overhead_pct;
+	s->stats = self->stats;
 	s->loop = self->loop;
 	s->loop_run = self->loop_run;
 	old = s->self;

@@ -52,6 +52,7 @@ struct supervisor {
 	struct can_model *can;		/* the CAN buses, NULL without --can */
 	__u64 now;			/* time of the verdicts being made */
 	double overhead_pct;		/* last sampled BPF overhead, % of a CPU; <0 unknown */
+	struct stats_window stats;	/* the window it was measured in (overhead.h) */
 	struct self_span loop;		/* the main loop's own time, this interval */
 	struct self_span loop_run;	/* the same since the start */
 	struct health health;		/* rtsup-trace's own, for the reports (health.h) */

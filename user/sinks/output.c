@@ -449,6 +449,16 @@ static json_t *json_thread_map(const struct health *h)
 	return o;
 }
 
+/* json_stats_window - the numbers behind bpf_overhead_pct (overhead.h); null: none */
+static json_t *json_stats_window(const struct stats_window *w)
+{
+	if (!w->wall_ns)
+		return json_null();
+	return json_pack("{s:f,s:I,s:f,s:o}", "window_s", w->wall_ns / 1e9,
+			 "runs", (json_int_t)w->runs, "run_s", w->run_ns / 1e9, "floor_ns",
+			 w->floor_ns >= 0 ? json_real(w->floor_ns) : json_null());
+}
+
 /* json_health - rtsup-trace's own health (health.h, docs/json.md) */
 static json_t *json_health(const struct health *h)
 {
@@ -493,6 +503,7 @@ static json_t *json_common(const struct collector *c, const struct supervisor *s
 				    json_null());
 		json_object_set_new(su, "loop_wait_s", sp->wait_s >= 0 ? json_real(sp->wait_s) :
 				    json_null());
+		json_object_set_new(su, "bpf_stats", json_stats_window(&sv->stats));
 		/* per-syscall: the syscall counts leave out what no hook watches (design.md) */
 		if (c->sys_hooks)
 			json_object_set_new(su, "syscall_hooks", json_string(c->sys_hooks));
