@@ -825,8 +825,18 @@ def test_rt_check_idle_host_exits_0(tmp_path):
             assert all(any(k in v["what"] for k in timing) for v in vs), [v["what"] for v in vs]
         else:
             assert tid in others, (vs, r.stderr)
+    # An emulated CPU (the RT guests' TCG) runs our programs far slower than
+    # the kernel code around them: sched_switch 4.6-7.4 us a run there, 0.1
+    # on this host. The start-up window read 3.6-6.7 % of a CPU in rt-6.12 (6
+    # runs, bpf_stats: 500-2400 ns a run over an empty program's 65): true
+    # there, and the supervisor's own overhead check may fire there, it alone.
+    own = [c for v in summary[0]["violations"] if "[" not in v["component"]
+           for c in v["checks"]]
+    if EMULATED:
+        assert all(c["check"] == "overhead" for c in own), (own, summary[0]["supervisor"])
     if not others and not missed:
-        assert r.returncode == 0, (summary[0]["violations"], r.stderr)
+        assert r.returncode == (2 if EMULATED and own else 0), (summary[0]["violations"],
+                                                               r.stderr)
     else:
         assert r.returncode in (0, 2), r.stderr
     for t in kernel:
