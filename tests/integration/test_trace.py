@@ -1172,11 +1172,13 @@ elif mode == "drop":
 
 def cycle_trail(intervals, summary, pid, err):
     """A failure message's account of a thread's cycles: each interval it is
-    in as +cycles/misses=running total [its checks' texts], its summary total,
-    the tracer's stderr"""
-    trail = ["%d:+%d/%d=%d%s" % (i, x["interval"]["cycles"], x["interval"]["deadline_misses"],
-                                 x["total"]["cycles"],
-                                 "".join("[%s]" % c["text"] for c in x["status"]["checks"]))
+    in as +cycles/misses=running total [its checks' texts] {its events}, its
+    summary total, the tracer's stderr"""
+    trail = ["%d:+%d/%d=%d%s%s" % (i, x["interval"]["cycles"], x["interval"]["deadline_misses"],
+                                   x["total"]["cycles"],
+                                   "".join("[%s]" % c["text"] for c in x["status"]["checks"]),
+                                   "".join("{%s}" % e["event"] for e in iv["events"]
+                                           if e.get("tid") == pid))
              for i, iv in enumerate(intervals) for x in iv["threads"] if x["tid"] == pid]
     t = threads_by_tid(summary).get(pid, {})
     return "intervals %s\nsummary total %s\n%s" % (
