@@ -1386,15 +1386,13 @@ static __always_inline struct rtsup_thread *rt_at_switch(struct task_struct *nex
 {
 	__u32 tgid;
 
-	switch (rt_on_policy(TREAD(btf, next, policy), nt)) {
+	switch (rt_on_switch_in(TREAD(btf, next, policy), TREAD(btf, next, flags), nt)) {
 	case RT_ADOPT:
 		/*
-		 * nt is NULL or stale (rtfollow.h). One let go for leaving RT
-		 * starts anew, as on_setsched's does. An exited one stays: the
-		 * exiting task itself can switch in again (preempted in do_exit),
-		 * and must not become a new thread that no exit event ends.
+		 * nt is NULL or left RT (rtfollow.h): one let go for leaving RT
+		 * starts anew, as on_setsched's does
 		 */
-		return nt && nt->exited ? nt : rt_add(next);
+		return rt_add(next);
 	case RT_LET_GO:
 		tgid = TREAD(btf, next, tgid);
 		rt_mark_left(nt, !!bpf_map_lookup_elem(&tgids, &tgid));

@@ -85,6 +85,34 @@ static void test_rtfollow_back_to_rt(void **state)
 	assert_int_equal(rt_on_policy(RTF_SCHED_FIFO, &t), RT_ADOPT);
 }
 
+/*
+ * the switch-in's read, without the policy hook: a task in do_exit is no
+ * new thread, whether its exited entry is still there or reaped already
+ */
+static void test_rtfollow_switch_in_exiting(void **state)
+{
+	struct rtsup_thread t;
+
+	memset(&t, 0, sizeof(t));
+	assert_int_equal(rt_on_switch_in(RTF_SCHED_FIFO, 0, NULL), RT_ADOPT);
+	/* reaped after its exit event, switched in while it still frees its memory */
+	assert_int_equal(rt_on_switch_in(RTF_SCHED_FIFO, RTF_PF_EXITING, NULL), RT_KEEP);
+	assert_int_equal(rt_on_switch_in(RTF_SCHED_FIFO, RTF_PF_EXITING | 0x40, NULL), RT_KEEP);
+	/* its exited entry still there */
+	t.rt = RTSUP_RT_ONLY;
+	t.exited = 1;
+	assert_int_equal(rt_on_switch_in(RTF_SCHED_FIFO, 0, &t), RT_KEEP);
+	assert_int_equal(rt_on_switch_in(RTF_SCHED_FIFO, RTF_PF_EXITING, &t), RT_KEEP);
+	/* one let go for leaving RT, back in RT: adopted anew, unless it is exiting */
+	t.exited = 0;
+	t.rt = RTSUP_RT_ONLY | RTSUP_RT_LEFT;
+	assert_int_equal(rt_on_switch_in(RTF_SCHED_RR, 0, &t), RT_ADOPT);
+	assert_int_equal(rt_on_switch_in(RTF_SCHED_RR, RTF_PF_EXITING, &t), RT_KEEP);
+	/* a live target that leaves RT is let go as at a policy change */
+	t.rt = RTSUP_RT_ONLY;
+	assert_int_equal(rt_on_switch_in(SCHED_OTHER_, 0, &t), RT_LET_GO);
+}
+
 /* a let-go marks the entry, unless the thread's process became a target */
 static void test_rtfollow_mark_left(void **state)
 {
@@ -109,6 +137,7 @@ int main(void)
 		cmocka_unit_test(test_rtfollow_stays_rt),
 		cmocka_unit_test(test_rtfollow_leaves_rt),
 		cmocka_unit_test(test_rtfollow_back_to_rt),
+		cmocka_unit_test(test_rtfollow_switch_in_exiting),
 		cmocka_unit_test(test_rtfollow_mark_left),
 	};
 
