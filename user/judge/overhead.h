@@ -6,10 +6,11 @@
  * While the statistics are on, the kernel reads the clock before and after
  * every program run, and a run's time holds one clock read. An empty
  * program's run measures that floor (statsfloor.h): 52 ns on the
- * development VM, where our sys_enter program itself takes 8. Left in,
- * a machine busy with syscalls made the check read several times what our
- * programs cost it (4.99 % "of a CPU" in an RT guest at start-up, a WARN).
- * The floor is taken off each run; without it the raw time stands.
+ * development VM, where our sys_enter program itself takes about 9. Left
+ * in, a machine busy with syscalls made the check read several times what
+ * our programs cost it (a getppid flood: 23-26 % "of a CPU" with empty
+ * programs and ours alike, 4 % of it ours). The floor is taken off each
+ * run; without it the raw time stands.
  */
 #ifndef RTSUP_OVERHEAD_H
 #define RTSUP_OVERHEAD_H
