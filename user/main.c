@@ -191,6 +191,7 @@ static void overhead_close(struct overhead *ov, struct loader *l, __u64 now, boo
 /*
  * overhead_interval - an interval begins: maybe open a window (its floor
  * measured first: the window times our programs only); the last window
+ * closed (wall_ns 0: none yet, or --no-overhead)
  */
 static const struct stats_window *overhead_interval(struct overhead *ov, struct loader *l,
 						    const struct options *o, __u64 now, bool last)
@@ -198,7 +199,7 @@ static const struct stats_window *overhead_interval(struct overhead *ov, struct 
 	__u64 len = (__u64)(o->interval * 1e9);
 
 	if (o->no_overhead)
-		return NULL;
+		return &ov->last;
 	overhead_close(ov, l, now, true);
 	if (!last && ov->n++ % OVERHEAD_EVERY == 0 && !loader_stats(l, true)) {
 		ov->last.floor_ns = stats_floor_measure(&ov->floor);
@@ -207,7 +208,7 @@ static const struct stats_window *overhead_interval(struct overhead *ov, struct 
 		ov->t0 = now;
 		ov->end = now + (len < OVERHEAD_WINDOW ? len : OVERHEAD_WINDOW);
 	}
-	return ov->last.wall_ns ? &ov->last : NULL;
+	return &ov->last;
 }
 
 /* The main loop's own schedstat at the start and at the last interval's end. */
@@ -240,8 +241,8 @@ static void self_in(struct self_in *in, const struct collector *c, const struct 
 		    const struct stats_window *stats, __u64 *last_drops)
 {
 	in->th = &s->cfg.defaults.th;
-	in->stats = stats ? *stats : (struct stats_window){ .floor_ns = -1 };
-	in->overhead_pct = stats_overhead_pct(&in->stats);
+	in->stats = *stats;
+	in->overhead_pct = stats_overhead_pct(stats);
 	/* the interval's: the counters never go back (read_counters) */
 	in->lost_events = lost_records(c->counters) - *last_drops;
 	*last_drops = lost_records(c->counters);
@@ -369,7 +370,7 @@ static int run_live(struct options *o, struct supervisor *s)
 	struct can_model cm;
 	struct actions act;
 	__u64 start, next, last, now, end = 0, last_drops = 0;
-	struct overhead ov = { .open = false, .floor = { .fd = -1 } };
+	struct overhead ov = { .open = false, .floor = STATS_FLOOR_NONE };
 	pid_t child = -1;
 	int go_fd = -1, status = 0, err = 1;
 	enum level worst = LEVEL_OK;

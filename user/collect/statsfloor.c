@@ -12,8 +12,7 @@
 
 void stats_floor_init(struct stats_floor *f)
 {
-	f->fd = -1;
-	f->err = 0;
+	*f = STATS_FLOOR_NONE;
 }
 
 /* floor_load - "return 0": a socket filter, the oldest type the kernel test-runs in a loop */

@@ -14,7 +14,10 @@ struct stats_floor {
 	int err;		/* its load's -errno, 0 */
 };
 
-/* stats_floor_init - nothing loaded yet */
+/* nothing loaded yet */
+#define STATS_FLOOR_NONE ((struct stats_floor){ .fd = -1 })
+
+/* stats_floor_init - nothing loaded yet (STATS_FLOOR_NONE) */
 void stats_floor_init(struct stats_floor *f);
 /*
  * stats_floor_measure - the floor in ns per run, the statistics being on;
