@@ -111,7 +111,8 @@ $(OUT)/syscall_table_%.h: scripts/gen-syscalls | $(OUT)
 $(OUT)/tests/test_syscall_tables: $(OUT)/syscall_table_x86_64.h $(OUT)/syscall_table_i386.h \
 	$(OUT)/syscall_table_arm64.h
 
-$(USER_OBJS): $(OUT)/rtsup.skel.h $(OUT)/rtsup_empty.skel.h $(OUT)/syscall_table.h \
+$(USER_OBJS): $(OUT)/rtsup.skel.h $(OUT)/rtsup_empty.skel.h $(OUT)/rtsup_tasks.skel.h \
+	$(OUT)/syscall_table.h \
 	$(OUT)/idl/diagnostics.h
 
 # ROS 2's diagnostic types for Cyclone DDS (robot/ros2diag.c), from their IDL
@@ -322,7 +323,8 @@ FUZZ_TARGETS := config record candump options proc
 FUZZ_OBJS := $(patsubst user/%.c,$(OUT)/fuzz/user/%.o,$(filter-out user/main.c,$(USER_SRCS)))
 FUZZ_BINS := $(patsubst %,$(OUT)/fuzz/fuzz_%,$(FUZZ_TARGETS))
 
-$(FUZZ_OBJS): $(OUT)/rtsup.skel.h $(OUT)/rtsup_empty.skel.h $(OUT)/syscall_table.h \
+$(FUZZ_OBJS): $(OUT)/rtsup.skel.h $(OUT)/rtsup_empty.skel.h $(OUT)/rtsup_tasks.skel.h \
+	$(OUT)/syscall_table.h \
 	$(OUT)/idl/diagnostics.h
 
 $(OUT)/fuzz/user/%.o: user/%.c

@@ -30,7 +30,7 @@ static __always_inline void zero_mem(void *p, __u32 n);
 #include "can.h"
 #include "stackcfg.h"
 #include "rtfollow.h"
-#include "threadread.h"
+#include "threadread.bpf.h"
 
 /*
  * TREAD - a field of a task_struct or sk_buff argument: tp_btf programs get
@@ -2181,19 +2181,10 @@ static __always_inline int on_can_sent(const struct sk_buff *skb, int rc,
 static __always_inline int on_task_iter(struct seq_file *seq, struct task_struct *task)
 {
 	struct rtsup_task_attrs a = {};
-	__u32 sz = bpf_core_field_size(task->cpus_mask);
+	__u32 tid = task->pid;
 
-	a.tid = task->pid;
-	if (!maybe_target(a.tid) || !thread_exists(a.tid))
+	if (!maybe_target(tid) || !thread_exists(tid) || task_attrs_fill(task, &a))
 		return 0;
-	a.policy = task->policy;
-	a.rt_priority = task->rt_priority;
-	a.cgroup_id = BPF_CORE_READ(task, cgroups, dfl_cgrp, kn, id);
-	if (sz > sizeof(a.cpus))
-		sz = sizeof(a.cpus);
-	if (bpf_probe_read_kernel(a.cpus, sz, &task->cpus_mask))
-		return 0;
-	a.cpu_words = sz / 8;
 	bpf_seq_write(seq, &a, sizeof(a));
 	return 0;
 }
@@ -2330,25 +2321,6 @@ int attrs_task(struct bpf_iter__task *ctx)
 	return task ? BODY(on_task_iter(ctx->meta->seq, task)) : 0;
 }
 
-/*
- * on_thread_read - the map iterator's visit of one entry: a record, and the
- * entry after it when it changed (threadread.h). When the read's buffer is
- * full the entry is shown again by the next read: its reader fields go back.
- */
-static __always_inline int on_thread_read(struct seq_file *seq, __u32 tid,
-					  struct rtsup_thread *t)
-{
-	struct rtsup_thread_rec r = { .tid = tid };
-	__u32 seen = t->read_seen, again = t->read_again;
-
-	r.full = thread_copy_due(t->gen, &t->read_seen, &t->read_again);
-	if (bpf_seq_write(seq, &r, sizeof(r)) || (r.full && bpf_seq_write(seq, t, sizeof(*t)))) {
-		t->read_seen = seen;
-		t->read_again = again;
-	}
-	return 0;
-}
-
 /* the collector's read of the thread map a sample, changed entries whole */
 SEC("iter/bpf_map_elem")
 int threads_read(struct bpf_iter__bpf_map_elem *ctx)
@@ -2356,7 +2328,8 @@ int threads_read(struct bpf_iter__bpf_map_elem *ctx)
 	struct rtsup_thread *t = ctx->value;
 	__u32 *tid = ctx->key;
 
-	return tid && t ? BODY(on_thread_read(ctx->meta->seq, *tid, t)) : 0;
+	return tid && t ? BODY(thread_rec_write(ctx->meta->seq, *tid, t, THREAD_TASK_UNREAD,
+						 NULL, false)) : 0;
 }
 
 RTSUP_PROGS("tp_btf", btf, 1)

@@ -22,11 +22,48 @@
 
 #include "rtsup.h"
 
-/* What the iterator writes for each entry: this, then the entry when 'full'. */
+/*
+ * What the iterator writes for each entry: this, then the task's attributes
+ * when 'task' is THREAD_TASK_ATTRS, then the entry when 'full'.
+ */
 struct rtsup_thread_rec {
 	__u32 tid;
-	__u32 full;	/* 1: a struct rtsup_thread follows */
+	__u16 full;	/* 1: a struct rtsup_thread follows */
+	__u16 task;	/* enum thread_task */
 };
+
+/*
+ * Where bpf_task_from_pid is (6.2+), the iterator reads the task of each
+ * entry too (threads_read_attrs): its attributes every sample for the cost
+ * of one pid lookup, not a walk of every task on the machine (attrs_task).
+ */
+enum thread_task {
+	THREAD_TASK_UNREAD,	/* threads_read: the task iterator reads them */
+	THREAD_TASK_GONE,	/* no task has the tid any more */
+	THREAD_TASK_ATTRS,	/* a struct rtsup_task_attrs follows */
+};
+
+/*
+ * thread_task_due - does the iterator read the task of an entry (of
+ * generation gen, reader fields seen and again) at read 'seq'? The pid
+ * lookup costs about as much as the rest of the visit: an entry that moved
+ * since its last copy is read every time, one that did not (a parked
+ * thread: only another thread can change its attributes) every
+ * THREAD_TASK_EVERY reads, spread over the tids, and whenever it moves again.
+ */
+#define THREAD_TASK_EVERY	8
+
+RTSUP_INLINE int thread_task_due(__u32 gen, __u32 seen, __u32 again, __u32 tid, __u32 seq)
+{
+	return seen != gen + 1 || again || (tid + seq) % THREAD_TASK_EVERY == 0;
+}
+
+/* thread_rec_len - the bytes of a record with its followers */
+RTSUP_INLINE __u32 thread_rec_len(const struct rtsup_thread_rec *r)
+{
+	return sizeof(*r) + (r->task == THREAD_TASK_ATTRS ? sizeof(struct rtsup_task_attrs) : 0) +
+	       (r->full ? sizeof(struct rtsup_thread) : 0);
+}
 
 /* thread_touch - a hook may write t: its generation moves */
 RTSUP_INLINE void thread_touch(struct rtsup_thread *t)

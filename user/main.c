@@ -403,6 +403,7 @@ static int run_live(struct options *o, struct supervisor *s)
 		goto out_child;
 	if (collector_init(&c, l.skel, o))
 		goto out;
+	c.tasks = l.tasks;
 	c.sys_hooks = l.sys_per ? "per-syscall" : "raw_syscalls";
 	if (sinks_open(&sk, o, s, &c))
 		goto out;
@@ -453,7 +454,8 @@ static int run_live(struct options *o, struct supervisor *s)
 			if (ov.open && ov.end < until)
 				until = ov.end;
 			ms = (until - now) / 1000000 + 1;
-			if (collector_poll(&c, ms > COLLECTOR_POLL_MAX_MS ? COLLECTOR_POLL_MAX_MS : ms) < 0)
+			ms = collector_poll_ms(&c, ms, child > 0 || actions_running(&act));
+			if (collector_poll(&c, ms) < 0)
 				break;
 			continue;
 		}

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
 """rtsup-trace against rtsup-loadgen: the numbers it reports are the truth."""
+import datetime
 import json
 import os
 import re
@@ -298,6 +299,52 @@ def test_policy_and_affinity_changes_are_seen(tmp_path):
     assert seen[0]["prio"] == 80 and seen[0]["cpus"] == "0-%d" % (os.cpu_count() - 1)
     assert seen[-1]["policy"] == "SCHED_FIFO" and seen[-1]["prio"] == 70
     assert seen[-1]["cpus"] == "0"
+
+
+# include/threadread.h: a parked target's task is read every THREAD_TASK_EVERY samples
+THREAD_TASK_EVERY = 8
+
+
+def _written_at(interval):
+    """an interval object's wall-clock write time, in seconds since the epoch"""
+    return datetime.datetime.fromisoformat(interval["time"].replace("Z", "+00:00")).timestamp()
+
+
+def test_parked_thread_policy_change_is_seen(tmp_path):
+    """A parked target's attributes are read once every THREAD_TASK_EVERY
+    samples (where the thread map's iterator reads the tasks, 6.2+; every
+    sample with the task iterator): a chrt of a thread that does not run
+    shows within that many intervals, and no verdict is made of a stale
+    policy meanwhile (the thread has no rule)."""
+    prefix = unique_prefix()
+    lg = Loadgen(tmp_path, ["--name", prefix, "-n", "1", "-c", "1", "-r", "0"])
+    try:
+        lg.summary()  # its one cycle is done: parked from now on
+        tid = _tid_named(lg.pid, prefix + "-0")
+        tr = Trace(["-i", "100ms", "--pid", str(lg.pid)])
+        time.sleep(1.0 if not EMULATED else 5)
+        subprocess.run(["chrt", "-f", "-p", "30", str(tid)], check=True)
+        chrt_end = time.time()
+        end = time.time() + (10 if not EMULATED else 60)
+        while time.time() < end:
+            after = [x for x in tr.out if '"type":"interval"' in x.replace(" ", "")]
+            if len([x for x in after if _written_at(json.loads(x)) > chrt_end]) > \
+                    THREAD_TASK_EVERY + 3:
+                break
+            time.sleep(0.1)
+        intervals, _, _ = tr.stop()
+    finally:
+        lg.stop()
+    after = [i for i in intervals if _written_at(i) > chrt_end]
+    seen = [[t for t in i["threads"] if t["tid"] == tid] for i in after]
+    assert all(len(x) == 1 for x in seen), "the thread is in every interval"
+    seen = [x[0] for x in seen]
+    assert all(t["interval"]["cycles"] == 0 for t in seen), "it stayed parked"
+    fifo = [k for k, t in enumerate(seen) if t["policy"] == "SCHED_FIFO" and t["prio"] == 30]
+    assert fifo, [t["policy"] for t in seen]
+    # the first interval written after the chrt may have been sampled before it: one more
+    assert fifo[0] <= THREAD_TASK_EVERY, [t["policy"] for t in seen]
+    assert fifo == list(range(fifo[0], len(seen))), "once read, it stays"
 
 
 def test_pid_target_includes_threads_created_later(tmp_path):

@@ -24,6 +24,7 @@
 #include "judge/supervise.h"
 #include "can.h"	/* the skeleton's .bss holds can_if_slot */
 #include "rtsup.skel.h"
+#include "rtsup_tasks.skel.h"
 
 __u64 mono_now(void)
 {
@@ -323,9 +324,18 @@ int collector_poll(struct collector *c, int ms)
 	} else {
 		err = ring_buffer__poll(c->rb, ms);
 	}
-	if (c->stack_rb)
-		ring_buffer__consume(c->stack_rb);
+	c->poll_quiet = err == 0;
+	if (c->stack_rb && ring_buffer__consume(c->stack_rb) != 0)
+		c->poll_quiet = false;
 	return err == -EINTR || err == -EAGAIN ? 0 : err;
+}
+
+int collector_poll_ms(const struct collector *c, int ms, bool busy)
+{
+	int cap = c->poll_quiet && !c->stack_rb && !busy ? COLLECTOR_POLL_QUIET_MS
+							 : COLLECTOR_POLL_MAX_MS;
+
+	return ms > cap ? cap : ms;
 }
 
 /*
@@ -429,6 +439,48 @@ static void process_name(struct collector *c, const struct thread_model *tm, cha
 }
 
 /*
+ * sample_attrs - tm's attributes read at this sample: by the thread map's
+ * iterator (threads_read_attrs), else by the task iterator; NULL if neither
+ */
+static const struct rtsup_task_attrs *sample_attrs(const struct collector *c,
+						   const struct thread_model *tm)
+{
+	/* read at this sample, or at one before and not moved since (thread_task_due) */
+	if (c->tasks)
+		return tm->attrs_seq && !tm->task_gone ? &tm->attrs : NULL;
+	return task_attrs_of(&c->attrs, tm->tid);
+}
+
+/*
+ * note_task - what the thread map's iterator read of tm's task (record r,
+ * attributes a), if it read it: attributes that moved are applied again
+ */
+static void note_task(const struct collector *c, struct thread_model *tm,
+		      const struct rtsup_thread_rec *r, const struct rtsup_task_attrs *a)
+{
+	if (!r || r->task == THREAD_TASK_UNREAD)
+		return;
+	tm->task_gone = r->task == THREAD_TASK_GONE;
+	if (!a)
+		return;
+	if (memcmp(&tm->attrs, a, sizeof(*a))) {
+		tm->attrs = *a;
+		tm->attrs_applied = false;
+	}
+	tm->attrs_seq = c->sample_seq;
+}
+
+/*
+ * attrs_kept - tm's policy, CPUs and cgroup are those of its attributes as
+ * last read, which did not move since (nor did the CPUs online)
+ */
+static bool attrs_kept(const struct collector *c, const struct thread_model *tm)
+{
+	return c->tasks && tm->attrs_applied && !tm->task_gone &&
+	       !c->attrs.online_moved;
+}
+
+/*
  * attrs_from_iter - the sample's task iterator record of the thread: its
  * scheduling attributes, and its cgroup's path read again only when its
  * cgroup changed (a cgroup directory renamed in place keeps its id and its
@@ -436,7 +488,7 @@ static void process_name(struct collector *c, const struct thread_model *tm, cha
  */
 static bool attrs_from_iter(struct collector *c, struct thread_model *tm, char *cg, size_t len)
 {
-	const struct rtsup_task_attrs *a = task_attrs_of(&c->attrs, tm->tid);
+	const struct rtsup_task_attrs *a = sample_attrs(c, tm);
 
 	if (!a)
 		return false;
@@ -449,7 +501,25 @@ static bool attrs_from_iter(struct collector *c, struct thread_model *tm, char *
 	tm->prio = a->rt_priority;
 	if (!task_attrs_cpus(&c->attrs, a, tm->cpus, sizeof(tm->cpus)))
 		cpu_list(tm->tid, tm->cpus, sizeof(tm->cpus));
+	tm->attrs_applied = a == &tm->attrs;
 	return true;
+}
+
+/* identity_set - the process's name and the cgroup read: kept, the rules matched again */
+static void identity_set(struct thread_model *tm, const char *pcomm, const char *cg)
+{
+	bool moved = false;
+
+	if (strcmp(pcomm, tm->pcomm)) {
+		snprintf(tm->pcomm, sizeof(tm->pcomm), "%s", pcomm);
+		moved = true;
+	}
+	if (cg != tm->cgroup && strcmp(cg, tm->cgroup)) {
+		snprintf(tm->cgroup, sizeof(tm->cgroup), "%s", cg);
+		moved = true;
+	}
+	if (moved)
+		rematch(tm);
 }
 
 /*
@@ -479,13 +549,14 @@ static void refresh_identity(struct collector *c, struct thread_model *tm)
 	 * its own policy while it runs would keep a stale copy for a while,
 	 * and the policy check would raise an ERROR that is not true.
 	 */
-	iter = attrs_from_iter(c, tm, cg, sizeof(cg));
-	if (!iter)
-		read_cgroup(tm->tgid, tm->tid, cg, sizeof(cg));
-	if (strcmp(pcomm, tm->pcomm) || strcmp(cg, tm->cgroup)) {
-		memcpy(tm->pcomm, pcomm, sizeof(pcomm));
-		memcpy(tm->cgroup, cg, sizeof(cg));
-		rematch(tm);
+	if (attrs_kept(c, tm)) {
+		identity_set(tm, pcomm, tm->cgroup);
+		iter = true;
+	} else {
+		iter = attrs_from_iter(c, tm, cg, sizeof(cg));
+		if (!iter)
+			read_cgroup(tm->tgid, tm->tid, cg, sizeof(cg));
+		identity_set(tm, pcomm, cg);
 	}
 	if (iter && !left_rt_after_sample(tm))
 		return;
@@ -536,17 +607,19 @@ static void rt_left_by_read(struct collector *c, struct thread_model *tm)
  * and an idle thread needs no thread_gone syscall (900 parked threads made
  * 900 tgkill calls a second)
  */
-static bool listed(const struct collector *c, __u32 tid)
+static bool listed(const struct collector *c, const struct thread_model *tm)
 {
-	return task_attrs_of(&c->attrs, tid) != NULL;
+	return sample_attrs(c, tm) != NULL;
 }
 
 /* take_rest - after the model took t, the rest of the thread: names, life, attributes */
 static void take_rest(struct collector *c, struct thread_model *tm, __u32 tid,
-		      const struct rtsup_thread *t)
+		      const struct rtsup_thread *t, const struct rtsup_thread_rec *r,
+		      const struct rtsup_task_attrs *a)
 {
 	char comm[RTSUP_COMM_LEN];
 
+	note_task(c, tm, r, a);
 	tm->tgid = t->tgid;
 	memcpy(comm, t->comm, RTSUP_COMM_LEN);
 	comm[RTSUP_COMM_LEN - 1] = '\0';
@@ -557,7 +630,7 @@ static void take_rest(struct collector *c, struct thread_model *tm, __u32 tid,
 	}
 	tm->seen = true;
 	tm->alive = !thread_dead(false, true, t->exited) &&
-		    !(idle_in_window(tm) && !listed(c, tid) && thread_gone(t->tgid, tid));
+		    !(idle_in_window(tm) && !listed(c, tm) && thread_gone(t->tgid, tid));
 	if (tm->alive)
 		refresh_identity(c, tm);
 	else
@@ -569,7 +642,8 @@ static void take_rest(struct collector *c, struct thread_model *tm, __u32 tid,
  * take - one thread's new kernel snapshot, a copy of its entry, into the
  * model; the copy's reader fields zeroed first (thread_rec_normalize)
  */
-static int take(struct collector *c, __u32 tid, struct rtsup_thread *t)
+static int take(struct collector *c, __u32 tid, struct rtsup_thread *t,
+		const struct rtsup_thread_rec *r, const struct rtsup_task_attrs *a)
 {
 	struct thread_model *tm = model_get(&c->model, tid, true);
 
@@ -588,7 +662,7 @@ static int take(struct collector *c, __u32 tid, struct rtsup_thread *t)
 	}
 	if (model_set(tm, t, c->bank))
 		c->map_moved++;
-	take_rest(c, tm, tid, t);
+	take_rest(c, tm, tid, t, r, a);
 	return 0;
 }
 
@@ -597,21 +671,27 @@ static int take(struct collector *c, __u32 tid, struct rtsup_thread *t)
  * last copied: what take makes of the same bytes, without them. An entry
  * the model does not hold (it cannot be, but the kernel decides) is read.
  */
-static int take_same(struct collector *c, __u32 tid)
+static int take_same(struct collector *c, __u32 tid, const struct rtsup_thread_rec *r,
+		     const struct rtsup_task_attrs *a)
 {
 	struct thread_model *tm = model_get(&c->model, tid, false);
 
 	if (!tm || !tm->cur.first_seen) {
 		if (bpf_map_lookup_elem(bpf_map__fd(c->skel->maps.threads), &tid, c->batch_vals))
 			return 0;	/* gone since: as if never read */
-		return take(c, tid, c->batch_vals);
+		return take(c, tid, c->batch_vals, r, a);
 	}
 	model_idle(tm);
-	take_rest(c, tm, tid, &tm->cur);
+	take_rest(c, tm, tid, &tm->cur, r, a);
 	return 0;
 }
 
-#define THREAD_REC_FULL	(sizeof(struct rtsup_thread_rec) + sizeof(struct rtsup_thread))
+/* rec_attrs - the attributes that follow record r at p, NULL if none */
+static const struct rtsup_task_attrs *rec_attrs(const struct rtsup_thread_rec *r,
+						const char *p)
+{
+	return r->task == THREAD_TASK_ATTRS ? (const void *)(p + sizeof(*r)) : NULL;
+}
 
 /*
  * take_recs - the whole records at the front of one read of the thread
@@ -622,31 +702,76 @@ static int take_same(struct collector *c, __u32 tid)
 static long take_recs(void *ctx, char *p, size_t len)
 {
 	struct collector *c = ctx;
+	const struct rtsup_task_attrs *a;
 	struct rtsup_thread_rec r;
 	struct thread_model *tm;
 	size_t off = 0;
 	int err;
 
-	for (; off + sizeof(r) <= len; off += r.full ? THREAD_REC_FULL : sizeof(r)) {
+	for (; off + sizeof(r) <= len; off += thread_rec_len(&r)) {
 		memcpy(&r, p + off, sizeof(r));
-		if (r.full && off + THREAD_REC_FULL > len)
+		if (off + thread_rec_len(&r) > len)
 			break;
 		tm = model_get(&c->model, r.tid, false);
 		if (tm && tm->seen)
 			continue;
 		c->map_entries++;
+		/* records of 8-byte multiples from the buffer's front: aligned */
+		a = rec_attrs(&r, p + off);
 		if (r.full) {
-			/* records of 8-byte multiples from the buffer's front: aligned */
-			struct rtsup_thread *t = (void *)(p + off + sizeof(r));
+			struct rtsup_thread *t = (void *)(p + off + thread_rec_len(&r) - sizeof(*t));
 
-			err = take(c, r.tid, t);
+			err = take(c, r.tid, t, &r, a);
 		} else {
-			err = take_same(c, r.tid);
+			err = take_same(c, r.tid, &r, a);
 		}
 		if (err)
 			return err;
 	}
 	return (long)off;
+}
+
+/*
+ * take_tasks - the records of the pass that only reads the tasks, before a
+ * batch read of the entries: their attributes kept for take_rest. A thread
+ * the model does not hold yet is asked of the kernel as before.
+ */
+static long take_tasks(void *ctx, char *p, size_t len)
+{
+	struct collector *c = ctx;
+	struct rtsup_thread_rec r;
+	struct thread_model *tm;
+	size_t off = 0;
+
+	for (; off + sizeof(r) <= len; off += thread_rec_len(&r)) {
+		memcpy(&r, p + off, sizeof(r));
+		if (off + thread_rec_len(&r) > len)
+			break;
+		tm = model_get(&c->model, r.tid, false);
+		if (tm)
+			note_task(c, tm, &r, rec_attrs(&r, p + off));
+	}
+	return (long)off;
+}
+
+/* threads_link - the thread map's iterator attached, NULL if none */
+static struct bpf_link *threads_link(const struct collector *c)
+{
+	return c->tasks ? c->tasks->links.threads_read_attrs : c->skel->links.threads_read;
+}
+
+/*
+ * read_tasks - the thread map's iterator copies no entry, only reads their
+ * tasks (a batch read copies the entries next)
+ */
+static int read_tasks(struct collector *c)
+{
+	int err;
+
+	c->tasks->bss->threads_read_tasks_only = 1;
+	err = iter_read_each(&c->threads_out, bpf_link__fd(threads_link(c)), take_tasks, c);
+	c->tasks->bss->threads_read_tasks_only = 0;
+	return err;
 }
 
 /*
@@ -656,8 +781,7 @@ static long take_recs(void *ctx, char *p, size_t len)
  */
 static int read_changed(struct collector *c)
 {
-	return iter_read_each(&c->threads_out, bpf_link__fd(c->skel->links.threads_read),
-			      take_recs, c);
+	return iter_read_each(&c->threads_out, bpf_link__fd(threads_link(c)), take_recs, c);
 }
 
 /* read_one_by_one - the thread map without batch operations (kernels < 5.6) */
@@ -672,7 +796,7 @@ static int read_one_by_one(struct collector *c, int fd)
 		/* deleted since its key was read: gone, like a key never read */
 		if (bpf_map_lookup_elem(fd, &key, c->batch_vals))
 			continue;
-		if (take(c, key, c->batch_vals))
+		if (take(c, key, c->batch_vals, NULL, NULL))
 			return -ENOMEM;
 	}
 	/* ENOENT: past the last key; anything else: the read stopped half-way */
@@ -714,7 +838,7 @@ static bool batch_read_cheaper(const struct collector *c)
 static int read_threads(struct collector *c)
 {
 	int fd = bpf_map__fd(c->skel->maps.threads), err;
-	bool iter = c->skel->links.threads_read && !batch_read_cheaper(c);
+	bool iter = threads_link(c) && !batch_read_cheaper(c);
 	__u64 in = 0, out = 0;
 	__u32 n, i;
 	bool first = true;
@@ -722,6 +846,9 @@ static int read_threads(struct collector *c)
 	c->map_entries = c->map_copied = c->map_moved = 0;
 	if (iter)
 		return read_changed(c);
+	/* the tasks' attributes first: no task iterator runs (a failure: asked per thread) */
+	if (c->tasks)
+		read_tasks(c);
 	if (c->no_batch)
 		return read_one_by_one(c, fd);
 	do {
@@ -743,7 +870,7 @@ static int read_threads(struct collector *c)
 		}
 		for (i = 0; i < n; i++) {
 			c->map_entries++;
-			if (take(c, c->batch_keys[i], &c->batch_vals[i]))
+			if (take(c, c->batch_keys[i], &c->batch_vals[i], NULL, NULL))
 				return -ENOMEM;
 		}
 		in = out;
@@ -809,6 +936,8 @@ int collector_sample(struct collector *c)
 	epoch_flip(c);
 	update_clocks(c);
 	c->sample_seq++;	/* process names are read again */
+	if (c->tasks)
+		c->tasks->bss->threads_read_seq = (__u32)c->sample_seq;
 	collector_poll(c, 0);
 	/* what came in the interval (the poll above was its last), in time order */
 	eventlog_finish(&c->events);
@@ -819,6 +948,9 @@ int collector_sample(struct collector *c)
 	if (c->skel->links.attrs_task &&
 	    task_attrs_read(&c->attrs, bpf_link__fd(c->skel->links.attrs_task)))
 		c->attrs.n = 0;
+	/* or the thread map's iterator reads them (take_rest): the CPUs online still */
+	if (c->tasks)
+		task_attrs_online(&c->attrs);
 	err = read_threads(c);
 	if (err)
 		fprintf(stderr, "rtsup-trace: reading the thread map: %s\n", strerror(-err));

@@ -17,6 +17,7 @@
 #include "options.h"
 
 struct rtsup_bpf;
+struct rtsup_tasks_bpf;
 struct ring_buffer;
 struct unwinder;
 struct stack_maps;
@@ -26,16 +27,21 @@ struct stack_maps;
 /* A poll consumes events for its wait or this long, whichever is longer (poll_over). */
 #define COLLECTOR_POLL_MIN_MS 10
 /*
- * The loop polls at least this often: the kernel wakes it only for a
- * quarter-full ring buffer (rb_wakeup), so no event waits longer.
+ * The loop polls at least this often while events come: the kernel wakes
+ * it only for a quarter-full ring buffer (rb_wakeup), so no event waits
+ * longer. Once a poll found none, at least this often (a wakeup costs the
+ * loop more than its read of a parked thread: collector_poll_ms).
  */
 #define COLLECTOR_POLL_MAX_MS 100
+#define COLLECTOR_POLL_QUIET_MS 1000
 
 /* process names remembered within one sample: a slot per tgid modulo this */
 #define COLLECTOR_PNAMES 64
 
 struct collector {
 	struct rtsup_bpf *skel;
+	/* the thread map's iterator that reads the tasks too (6.2+), NULL: skel's own */
+	struct rtsup_tasks_bpf *tasks;
 	const struct options *o;
 	/* what the syscalls are seen by: "per-syscall" or "raw_syscalls"; NULL in a replay */
 	const char *sys_hooks;
@@ -54,6 +60,7 @@ struct collector {
 	/* live only (rb): a wall clock step updates the offsets at once (clockwatch.h) */
 	int clock_fd;			/* -1: not watched, offsets each interval only */
 	int epfd;			/* the ring buffer's epoll fd and clock_fd */
+	bool poll_quiet;		/* the last poll found no event */
 	__u64 clock_steps;		/* wall clock steps seen */
 	__u64 start_ns;			/* monotonic start */
 	__u64 end_ns;			/* when the last sample ended its interval */
@@ -101,6 +108,13 @@ int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct opt
 int collector_scan(struct collector *c, const struct targets *t);
 /* collector_poll - wait up to ms for rare events, consume for at most that (or 10 ms) */
 int collector_poll(struct collector *c, int ms);
+/*
+ * collector_poll_ms - how long the loop's next poll may wait of the ms to
+ * its next deadline: COLLECTOR_POLL_MAX_MS while events come, stacks are
+ * unwound (the process's maps must still be there) or 'busy' (a child or
+ * an action the loop reaps), else COLLECTOR_POLL_QUIET_MS
+ */
+int collector_poll_ms(const struct collector *c, int ms, bool busy);
 /* collector_sample - end an interval at end_ns: refresh the model from the maps */
 int collector_sample(struct collector *c);
 /* collector_reap - after the sinks ran: free what dead threads left */

@@ -20,6 +20,7 @@
 #include "rtfollow.h"
 #include "rtsup.skel.h"
 #include "rtsup_empty.skel.h"
+#include "rtsup_tasks.skel.h"
 
 #ifndef CAP_PERFMON
 #define CAP_PERFMON 38
@@ -143,10 +144,12 @@ static bool is_sys_prog(const char *name)
  * select_programs - keep one of the two program sets; CAN only with --can,
  * the user page fault hook only with --stacks, --rt's policy hook (rt_*)
  * only when rt_hook, the task iterator only when attrs_iter, the thread map's
- * iterator only when threads_iter
+ * iterator only when threads_iter; neither iterator when map_attrs (the one
+ * in rtsup_tasks.bpf.c reads the thread map and the tasks: tasks_start)
  */
 static void select_programs(struct bpf_object *obj, bool btf, bool can, bool faults,
-			    bool rt_hook, bool attrs_iter, bool threads_iter, bool sys_per)
+			    bool rt_hook, bool attrs_iter, bool threads_iter, bool map_attrs,
+			    bool sys_per)
 {
 	struct bpf_program *p;
 
@@ -165,9 +168,9 @@ static void select_programs(struct bpf_object *obj, bool btf, bool can, bool fau
 		else if (!strncmp(name, "rt_", 3))
 			bpf_program__set_autoload(p, rt_hook);
 		else if (!strcmp(sec, "iter/task"))
-			bpf_program__set_autoload(p, attrs_iter);
+			bpf_program__set_autoload(p, attrs_iter && !map_attrs);
 		else if (!strcmp(sec, "iter/bpf_map_elem"))
-			bpf_program__set_autoload(p, threads_iter);
+			bpf_program__set_autoload(p, threads_iter && !map_attrs);
 		else
 			bpf_program__set_autoload(p, is_btf == btf && (can || !is_can) &&
 						  (faults || !is_fault));
@@ -413,7 +416,7 @@ static int floor_start(struct loader *l, const struct options *o)
 		return -errno;
 	l->floor = e;
 	select_programs(e->obj, l->tp_btf, o->can, l->fault_stacks, l->rt_hook, false, false,
-			l->sys_per);
+			false, l->sys_per);
 	/* empty stubs on the same syscalls; no body to call */
 	set_sys_hooks(e->obj, l->by_proto, false);
 	bpf_program__set_autoattach(e->progs.rt_setsched, false);
@@ -442,6 +445,8 @@ static bool sys_per_failed;
 static bool attrs_iter_failed;
 /* the same for the thread map's iterator: the collector reads every entry */
 static bool threads_iter_failed;
+/* the same for its reading of the tasks (a kfunc): the task iterator does */
+static bool map_attrs_failed;
 
 /*
  * fallback_of - the optional piece to go without when loading (or, with
@@ -457,6 +462,8 @@ static bool *fallback_of(const struct loader *l, const struct options *o, bool a
 		return NULL;	/* forced per-syscall hooks refused: that is the error */
 	if (l->rt_hook)
 		return &rt_hook_failed;		/* the per-switch read */
+	if (at_load && l->map_attrs)
+		return &map_attrs_failed;	/* the task iterator reads them */
 	if (at_load && l->threads_iter)
 		return &threads_iter_failed;	/* batch reads of every entry */
 	if (at_load && l->attrs_iter)
@@ -475,6 +482,27 @@ static bool attach_threads_iter(struct rtsup_bpf *s)
 	opts.link_info_len = sizeof(linfo);
 	s->links.threads_read = bpf_program__attach_iter(s->progs.threads_read, &opts);
 	return s->links.threads_read != NULL;
+}
+
+/*
+ * tasks_start - the thread map's iterator that reads the tasks too, its own
+ * object (rtsup_tasks.bpf.c), on our thread map; false when the kernel
+ * refused it
+ */
+static bool tasks_start(struct loader *l)
+{
+	DECLARE_LIBBPF_OPTS(bpf_iter_attach_opts, opts);
+	union bpf_iter_link_info linfo = {};
+	struct rtsup_tasks_bpf *t = rtsup_tasks_bpf__open_and_load();
+
+	l->tasks = t;
+	if (!t)
+		return false;
+	linfo.map.map_fd = bpf_map__fd(l->skel->maps.threads);
+	opts.link_info = &linfo;
+	opts.link_info_len = sizeof(linfo);
+	t->links.threads_read_attrs = bpf_program__attach_iter(t->progs.threads_read_attrs, &opts);
+	return t->links.threads_read_attrs != NULL;
 }
 
 /* start_again_without - stop, give up the piece the kernel refused, start again */
@@ -556,7 +584,7 @@ int loader_start(struct loader *l, const struct options *o)
 	struct rtsup_bpf *s;
 	struct bpf_program *p;
 	struct btf *kbtf;
-	bool stolen, *drop;
+	bool stolen, task_kfunc, *drop;
 	int err, i;
 
 	memset(l, 0, sizeof(*l));
@@ -595,6 +623,7 @@ int loader_start(struct loader *l, const struct options *o)
 	/* per-syscall hooks: fentry on the syscalls' functions, so tp_btf's kernels only */
 	l->sys_per = o->sys_hooks != SYS_HOOKS_RAW && l->tp_btf && !sys_per_failed &&
 		     plan_sys_hooks(l, o, kbtf);
+	task_kfunc = has_function(kbtf, "bpf_task_from_pid");
 	btf__free(kbtf);
 	if (o->sys_hooks == SYS_HOOKS_PER && !l->sys_per) {
 		fprintf(stderr, "rtsup-trace: --syscall-hooks per-syscall: %s\n",
@@ -610,9 +639,10 @@ int loader_start(struct loader *l, const struct options *o)
 	/* the targets' attributes in one read a sample, where tracing programs load */
 	l->attrs_iter = l->tp_btf && !attrs_iter_failed && !o->floor;
 	l->threads_iter = !threads_iter_failed && !o->floor;
+	/* ... and with it, where its kfunc is (6.2+), the attributes too */
+	l->map_attrs = l->attrs_iter && l->threads_iter && !map_attrs_failed && task_kfunc;
 	select_programs(s->obj, l->tp_btf, o->can, l->fault_stacks, l->rt_hook, l->attrs_iter,
-			l->threads_iter,
-			l->sys_per);
+			l->threads_iter, l->map_attrs, l->sys_per);
 	if (l->sys_per)
 		set_sys_hooks(s->obj, l->by_proto, true);
 	/* attached on their own below, to know that they failed */
@@ -710,13 +740,15 @@ int loader_start(struct loader *l, const struct options *o)
 			return start_again_without(l, o, &rt_hook_failed);
 	}
 	/* without it the collector asks the kernel thread by thread */
-	if (!err && l->attrs_iter) {
+	if (!err && l->attrs_iter && !l->map_attrs) {
 		s->links.attrs_task = bpf_program__attach_iter(s->progs.attrs_task, NULL);
 		l->attrs_iter = s->links.attrs_task != NULL;
 	}
 	/* without it the collector reads every entry (batch reads) */
-	if (!err && l->threads_iter)
+	if (!err && l->threads_iter && !l->map_attrs)
 		l->threads_iter = attach_threads_iter(s);
+	if (!err && l->map_attrs && !tasks_start(l))
+		return start_again_without(l, o, &map_attrs_failed);
 	if (!err && o->floor) {
 		err = floor_start(l, o);
 		/* the floor falls back as ours does: its set is the one we would run */
@@ -748,16 +780,22 @@ static int prog_info_sums(const struct loader *l, __u64 *run_time, __u64 *runs, 
 	struct bpf_program *p;
 	int err = 0, r;
 
+	const struct bpf_object *objs[2] = { l->floor ? l->floor->obj : l->skel->obj,
+					     l->tasks ? l->tasks->obj : NULL };
+	int i;
+
 	*run_time = *runs = *missed = 0;
-	bpf_object__for_each_program(p, l->floor ? l->floor->obj : l->skel->obj) {
-		r = prog_info(p, &info);
-		if (r < 0)
-			err = -1;
-		if (r)
-			continue;	/* unreadable, or the program set we did not load */
-		*run_time += info.run_time_ns;
-		*runs += info.run_cnt;
-		*missed += info.recursion_misses;
+	for (i = 0; i < 2 && objs[i]; i++) {
+		bpf_object__for_each_program(p, objs[i]) {
+			r = prog_info(p, &info);
+			if (r < 0)
+				err = -1;
+			if (r)
+				continue;	/* unreadable, or the program set we did not load */
+			*run_time += info.run_time_ns;
+			*runs += info.run_cnt;
+			*missed += info.recursion_misses;
+		}
 	}
 	return err;
 }
@@ -795,6 +833,8 @@ void loader_stop(struct loader *l)
 	l->stats_fd = -1;
 	rtsup_empty_bpf__destroy(l->floor);
 	l->floor = NULL;
+	rtsup_tasks_bpf__destroy(l->tasks);
+	l->tasks = NULL;
 	rtsup_bpf__destroy(l->skel);
 	l->skel = NULL;
 	if (l->cgroup_fd >= 0)

@@ -9,15 +9,18 @@
 
 struct rtsup_bpf;
 struct rtsup_empty_bpf;
+struct rtsup_tasks_bpf;
 
 struct loader {
 	struct rtsup_bpf *skel;
 	struct rtsup_empty_bpf *floor;	/* --floor: the empty programs attached instead */
+	struct rtsup_tasks_bpf *tasks;	/* map_attrs: the thread map's iterator, its own object */
 	bool tp_btf;		/* which program set is attached */
 	bool fault_stacks;	/* --stacks: the user page fault hook is attached */
 	bool rt_hook;		/* --rt: the policy hook is attached (rtfollow.h) */
 	bool attrs_iter;	/* the task iterator is loaded (taskattrs.h) */
 	bool threads_iter;	/* the thread map's iterator is attached (threadread.h) */
+	bool map_attrs;		/* ... and reads the tasks' attributes: 'tasks' (no task iterator) */
 	bool sys_per;		/* per-syscall hooks, on the syscalls in hooks; else raw_syscalls */
 	struct sys_hookset hooks;
 	/* hooks by the prototype of their function: [0] with arguments, [1] without */

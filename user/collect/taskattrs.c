@@ -9,20 +9,23 @@
 #include "taskattrs.h"
 #include "targets.h"
 
-/* read_online - /sys/devices/system/cpu/online into ta->online */
-static void read_online(struct task_attrs *ta)
+void task_attrs_online(struct task_attrs *ta)
 {
+	unsigned long before[RTSUP_ATTR_CPU_WORDS];
+	bool ok = ta->online_ok;
 	char text[4096];
 	int fd = open("/sys/devices/system/cpu/online", O_RDONLY | O_CLOEXEC);
 	ssize_t n = fd < 0 ? -1 : read(fd, text, sizeof(text) - 1);
 
 	if (fd >= 0)
 		close(fd);
+	memcpy(before, ta->online, sizeof(before));
 	ta->online_ok = false;
-	if (n <= 0)
-		return;
-	text[n] = '\0';
-	ta->online_ok = !cpu_list_parse(text, ta->online, RTSUP_ATTR_CPU_WORDS * 64);
+	if (n > 0) {
+		text[n] = '\0';
+		ta->online_ok = !cpu_list_parse(text, ta->online, RTSUP_ATTR_CPU_WORDS * 64);
+	}
+	ta->online_moved = ta->online_ok != ok || memcmp(before, ta->online, sizeof(before));
 }
 
 static int by_tid(const void *a, const void *b)
@@ -60,7 +63,7 @@ int task_attrs_read(struct task_attrs *ta, int link_fd)
 	int err = iter_read(&ta->out, link_fd);
 
 	ta->n = 0;
-	read_online(ta);
+	task_attrs_online(ta);
 	return err ?: task_attrs_parse(ta, ta->out.p, ta->out.len);
 }
 

@@ -25,6 +25,7 @@ struct task_attrs {
 	 */
 	unsigned long online[RTSUP_ATTR_CPU_WORDS];
 	bool online_ok;
+	bool online_moved;		/* not the mask of the read before */
 	/* the last mask task_attrs_cpus wrote out: a process's threads mostly share one */
 	unsigned long last_bits[RTSUP_ATTR_CPU_WORDS];
 	char last_list[512];
@@ -35,6 +36,8 @@ struct task_attrs {
 int task_attrs_parse(struct task_attrs *ta, const void *buf, size_t len);
 /* task_attrs_read - run the iterator of link 'link_fd' once; -errno */
 int task_attrs_read(struct task_attrs *ta, int link_fd);
+/* task_attrs_online - the CPUs online now (the reads of task_attrs_cpus) */
+void task_attrs_online(struct task_attrs *ta);
 /* task_attrs_of - tid's record of the last read, NULL if none */
 const struct rtsup_task_attrs *task_attrs_of(const struct task_attrs *ta, __u32 tid);
 /* task_attrs_cpus - a record's allowed CPUs as cpu_list writes them (the last list kept:

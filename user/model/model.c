@@ -2,6 +2,7 @@
 /* model.c - per-thread model: snapshots, interval deltas, percentiles */
 #include <math.h>
 #include <malloc.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 #include "model/model.h"
@@ -168,6 +169,59 @@ static void delta_range(const __u32 *cur, const __u32 *prev, int *lo, int *hi)
 	while (a <= b && cur[a] == prev[a])
 		a++;
 	while (b > a && cur[b] == prev[b])
+		b--;
+	*lo = a;
+	*hi = b;
+}
+
+/* banks_range - the buckets between the lowest and highest value of both banks of s */
+static void banks_range(const struct rtsup_metric_stats *s, int *lo, int *hi)
+{
+	int i, a, b;
+
+	*lo = HIST_BUCKETS;
+	*hi = -1;
+	for (i = 0; i < 2; i++) {
+		if (s->win[i].min > s->win[i].max)
+			continue;	/* empty (minmax_reset) */
+		a = (int)hist_bucket(s->win[i].min);
+		b = (int)hist_bucket(s->win[i].max);
+		if (a < *lo)
+			*lo = a;
+		if (b > *hi)
+			*hi = b;
+	}
+}
+
+/*
+ * moved_range - delta_range of metric cur since base (NULL: since zero),
+ * mostly without reading all of its buckets. Since the last snapshot,
+ * values went into the bank of the interval that ended and the one that
+ * began (rtsup.h, "Interval windows"): between their lowest and highest
+ * buckets. That holds when the buckets there moved by as many values as
+ * the count did; when not (a copy taken while a hook wrote, a bank reset
+ * since), every bucket is compared as before.
+ */
+static void moved_range(const struct rtsup_metric_stats *cur,
+			const struct rtsup_metric_stats *base, int *lo, int *hi)
+{
+	__u64 n = 0;
+	int a, b, k;
+
+	if (!base) {
+		delta_range(cur->hist, NULL, lo, hi);
+		return;
+	}
+	banks_range(cur, &a, &b);
+	for (k = a; k <= b; k++)
+		n += (__u32)(cur->hist[k] - base->hist[k]);	/* modulo 2^32, as delta_in */
+	if (n != cur->count - base->count) {
+		delta_range(cur->hist, base->hist, lo, hi);
+		return;
+	}
+	while (a <= b && cur->hist[a] == base->hist[a])
+		a++;
+	while (b > a && cur->hist[b] == base->hist[b])
 		b--;
 	*lo = a;
 	*hi = b;
@@ -459,7 +513,7 @@ static int life_add(struct thread_model *tm, const struct rtsup_thread *t,
 	/* no interval until it is written; then where each metric moved, and room */
 	win_clear(l);
 	for (i = 0; i < RTSUP_M_NR; i++) {
-		delta_range(t->m[i].hist, prev ? prev->m[i].hist : NULL, &lo[i], &hi[i]);
+		moved_range(&t->m[i], prev ? &prev->m[i] : NULL, &lo[i], &hi[i]);
 		if (lo[i] <= hi[i] && win_room(l, i, hi[i] - lo[i] + 1))
 			return -1;
 	}
@@ -522,8 +576,12 @@ static bool life_view_kept(const struct life_hist *l, const struct rtsup_metric_
 	       cur->min == base->min && cur->max == base->max && cur->ewma == base->ewma;
 }
 
-bool model_views(struct thread_model *tm, const struct rtsup_thread *t,
-		 const struct rtsup_thread *prev, __u32 bank)
+/*
+ * model_views_spans - model_views; *spans says that the buckets of t
+ * differ from prev's only within life_add's interval spans
+ */
+static bool model_views_spans(struct thread_model *tm, const struct rtsup_thread *t,
+			      const struct rtsup_thread *prev, __u32 bank, bool *spans)
 {
 	/* the lifetime views were computed from life_hist by the last call */
 	bool had_life = tm->life_hist != NULL;
@@ -547,6 +605,7 @@ bool model_views(struct thread_model *tm, const struct rtsup_thread *t,
 	}
 	l = tm->life_hist;
 	base = snapshot_base(t, prev);
+	*spans = base && base == prev;
 	span_counters(t, base, &tm->win);
 	span_counters(t, NULL, &tm->life);
 	for (i = 0; i < RTSUP_M_NR; i++) {
@@ -563,11 +622,48 @@ bool model_views(struct thread_model *tm, const struct rtsup_thread *t,
 	return true;
 }
 
+bool model_views(struct thread_model *tm, const struct rtsup_thread *t,
+		 const struct rtsup_thread *prev, __u32 bank)
+{
+	bool spans;
+
+	return model_views_spans(tm, t, prev, bank, &spans);
+}
+
+/* snapshot_take_moved copies whole all fields but the buckets: why is the last */
+_Static_assert(offsetof(struct rtsup_thread, why) + sizeof(struct rtsup_why) ==
+	       sizeof(struct rtsup_thread), "a field after why: snapshot_take_moved misses it");
+
+/*
+ * snapshot_take_moved - cur becomes t, whose buckets differ from cur's only
+ * within the interval's spans life_add found (l): a thread's 4 x 280
+ * buckets are most of its 7 KiB, and an interval moves a few of them
+ */
+static void snapshot_take_moved(struct rtsup_thread *cur, const struct rtsup_thread *t,
+				const struct life_hist *l)
+{
+	int i;
+
+	memcpy(cur, t, offsetof(struct rtsup_thread, m));
+	for (i = 0; i < RTSUP_M_NR; i++) {
+		memcpy(&cur->m[i], &t->m[i], offsetof(struct rtsup_metric_stats, hist));
+		if (l->wlo[i] <= l->whi[i])
+			memcpy(&cur->m[i].hist[l->wlo[i]], &t->m[i].hist[l->wlo[i]],
+			       (size_t)(l->whi[i] - l->wlo[i] + 1) * sizeof(t->m[i].hist[0]));
+	}
+	cur->why = t->why;
+}
+
 bool model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank)
 {
-	bool moved = model_views(tm, t, tm->cur.first_seen ? &tm->cur : NULL, bank);
+	const struct rtsup_thread *prev = tm->cur.first_seen ? &tm->cur : NULL;
+	bool spans = false, moved = model_views_spans(tm, t, prev, bank, &spans);
 
-	tm->cur = *t;
+	/* not moved: the same bytes; spans: the buckets moved within them */
+	if (spans)
+		snapshot_take_moved(&tm->cur, t, tm->life_hist);
+	else if (moved)
+		tm->cur = *t;
 	return moved;
 }
 

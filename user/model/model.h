@@ -101,6 +101,11 @@ struct thread_model {
 	char pcomm[RTSUP_COMM_LEN];	/* the process's name */
 	char cgroup[256];		/* cgroup v2 path, "" if unknown */
 	__u64 cgroup_id;		/* the id it was read for (task iterator), 0 = none */
+	/* its task's attributes as the thread map's iterator last read them (threadread.h) */
+	struct rtsup_task_attrs attrs;
+	__u64 attrs_seq;		/* the sample that read them, 0 = none yet */
+	bool attrs_applied;		/* policy, cpus and cgroup above are from them */
+	bool task_gone;			/* its last read found no task */
 	int rule;			/* index of the matching rule, -1 = defaults */
 	__u32 rule_gen;			/* config generation 'rule' belongs to, 0 = none */
 	__u32 cfg_gen;			/* config generation written to the kernel */

@@ -364,15 +364,23 @@ void actions_poll(struct actions *a)
 	}
 }
 
-void actions_close(struct actions *a)
+int actions_running(const struct actions *a)
 {
 	int i, n = 0;
+
+	for (i = 0; i < ACTIONS_MAX_RUNNING; i++)
+		n += a->child[i].pid != 0;
+	return n;
+}
+
+void actions_close(struct actions *a)
+{
+	int n;
 
 	if (!a->s)
 		return;
 	actions_poll(a);
-	for (i = 0; i < ACTIONS_MAX_RUNNING; i++)
-		n += a->child[i].pid != 0;
+	n = actions_running(a);
 	if (a->skipped_rate || a->skipped_busy || n)
 		fprintf(stderr, "rtsup-trace: actions: %llu done, %llu skipped by the rate limit, "
 			"%llu with %d commands running, %d still running\n",

@@ -33,6 +33,8 @@ struct actions {
 void actions_open(struct actions *a, struct supervisor *s);
 /* actions_poll - reap finished commands, log their failures; every loop turn */
 void actions_poll(struct actions *a);
+/* actions_running - commands started and not reaped yet */
+int actions_running(const struct actions *a);
 /* actions_close - reap what has ended, say what was skipped; running ones go on */
 void actions_close(struct actions *a);
 /* actions_json - the JSON line an action gets (malloc'd, no newline) */

@@ -79,12 +79,90 @@ static void test_normalized_copies_equal(void **state)
 	assert_memory_equal(&a, &b, sizeof(a));
 }
 
+/* is the entry's task read at read seq? (as the iterator decides, before its copy) */
+static int task_due(const struct rtsup_thread *t, __u32 tid, __u32 seq)
+{
+	return thread_task_due(t->gen, t->read_seen, t->read_again, tid, seq);
+}
+
+/*
+ * a parked entry's task is read once every THREAD_TASK_EVERY reads, one
+ * that moved at every read until its second copy is done
+ */
+static void test_task_read_parked_rarely_moved_always(void **state)
+{
+	struct rtsup_thread t;
+	__u32 seq, reads = 0, tid = 1234;
+
+	(void)state;
+	memset(&t, 0, sizeof(t));
+	assert_true(task_due(&t, tid, 1));	/* new: never copied */
+	read_once(&t);
+	assert_true(task_due(&t, tid, 2));	/* its second copy is due */
+	read_once(&t);
+	for (seq = 3; seq < 3 + 10 * THREAD_TASK_EVERY; seq++) {
+		reads += task_due(&t, tid, seq);
+		read_once(&t);
+	}
+	assert_int_equal(reads, 10);
+	/* moved: read at this read and the next, whatever seq */
+	for (seq = 0; seq < THREAD_TASK_EVERY; seq++) {
+		struct rtsup_thread u = t;
+
+		thread_touch(&u);
+		assert_true(task_due(&u, tid, seq));
+		read_once(&u);
+		assert_true(task_due(&u, tid, seq + 1));
+	}
+}
+
+/* the parked ones' reads are spread: as many tids read at each seq */
+static void test_task_read_spread_over_tids(void **state)
+{
+	struct rtsup_thread t;
+	__u32 seq, tid, n;
+
+	(void)state;
+	memset(&t, 0, sizeof(t));
+	read_once(&t);
+	read_once(&t);
+	for (seq = 100; seq < 100 + THREAD_TASK_EVERY; seq++) {
+		for (n = 0, tid = 1000; tid < 1000 + 64 * THREAD_TASK_EVERY; tid++)
+			n += task_due(&t, tid, seq);
+		assert_int_equal(n, 64);
+	}
+}
+
+/* a record's length: the attributes and the entry follow it when it says so */
+static void test_rec_len(void **state)
+{
+	struct rtsup_thread_rec r = { .tid = 5 };
+
+	(void)state;
+	assert_int_equal(sizeof(r) % 8, 0);
+	assert_int_equal(sizeof(struct rtsup_task_attrs) % 8, 0);
+	assert_int_equal(sizeof(struct rtsup_thread) % 8, 0);	/* records stay aligned */
+	assert_int_equal(thread_rec_len(&r), sizeof(r));
+	r.task = THREAD_TASK_GONE;
+	assert_int_equal(thread_rec_len(&r), sizeof(r));
+	r.task = THREAD_TASK_ATTRS;
+	assert_int_equal(thread_rec_len(&r), sizeof(r) + sizeof(struct rtsup_task_attrs));
+	r.full = 1;
+	assert_int_equal(thread_rec_len(&r), sizeof(r) + sizeof(struct rtsup_task_attrs) +
+					     sizeof(struct rtsup_thread));
+	r.task = THREAD_TASK_UNREAD;
+	assert_int_equal(thread_rec_len(&r), sizeof(r) + sizeof(struct rtsup_thread));
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_new_entry_copied_twice),
 		cmocka_unit_test(test_touched_entry_copied_twice),
 		cmocka_unit_test(test_normalized_copies_equal),
+		cmocka_unit_test(test_task_read_parked_rarely_moved_always),
+		cmocka_unit_test(test_task_read_spread_over_tids),
+		cmocka_unit_test(test_rec_len),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -573,9 +573,65 @@ static void test_model_views_follow_moving_buckets(void **state)
 						      (have_prev ? prev.m[i].hist[b] : 0));
 		model_set(tm, &t->cur, bank);
 		check_views(tm, &t->cur, have_prev ? &prev : NULL, life, bank);
+		/* the snapshot kept is the one given, though only its moved buckets were copied */
+		assert_memory_equal(&tm->cur, &t->cur, sizeof(t->cur));
 		prev = t->cur;
 		have_prev = true;
 	}
+	model_free(&m);
+}
+
+/*
+ * The buckets between the banks' lowest and highest values are read only
+ * when they moved by as many values as the count did. A bucket outside
+ * them that moved with its count (a bank reset since the value went in)
+ * is found by comparing every bucket; one whose count is not in the copy
+ * yet (a copy taken while a hook wrote) is counted at the next snapshot,
+ * with its count, and the snapshot kept holds it only then.
+ */
+static void test_model_buckets_outside_the_banks(void **state)
+{
+	struct tfx *t = *state;
+	struct model m = { 0 };
+	struct thread_model *tm = model_get(&m, 42, true);
+	struct rtsup_metric_stats *e = &t->cur.m[RTSUP_M_EXEC];
+	__u32 far = hist_bucket(40 * MS);
+
+	assert_non_null(tm);
+	t->cur.first_seen = 7;
+	add_cycles(&t->cur, 10, 100 * US, 0);
+	model_set(tm, &t->cur, 0);
+
+	/* moved with its count, the banks knowing nothing of it */
+	minmax_reset(&e->win[0]);
+	minmax_reset(&e->win[1]);
+	add_cycles(&t->cur, 3, 100 * US, 1);
+	e->hist[far]++;
+	e->count++;
+	e->sum += 40 * MS;
+	model_set(tm, &t->cur, 1);
+	assert_int_equal(win_at(tm, RTSUP_M_EXEC, far), 1);
+	assert_int_equal(tm->win.m[RTSUP_M_EXEC].count, 4);
+	assert_memory_equal(&tm->cur, &t->cur, sizeof(t->cur));
+
+	/* torn: the bucket is in the copy, its count and bank not yet */
+	minmax_reset(&e->win[0]);
+	add_cycles(&t->cur, 2, 100 * US, 0);
+	e->hist[far]++;
+	model_set(tm, &t->cur, 0);
+	assert_int_equal(tm->win.m[RTSUP_M_EXEC].count, 2);
+	assert_int_equal(win_at(tm, RTSUP_M_EXEC, far), 0);
+	assert_int_equal(tm->cur.m[RTSUP_M_EXEC].hist[far], 1);
+	/* the hook's count and bank in the next copy: the value is counted there */
+	minmax_reset(&e->win[1]);
+	e->count++;
+	e->sum += 40 * MS;
+	e->win[0].max = 40 * MS;
+	add_cycles(&t->cur, 1, 100 * US, 1);
+	model_set(tm, &t->cur, 1);
+	assert_int_equal(tm->win.m[RTSUP_M_EXEC].count, 2);
+	assert_int_equal(win_at(tm, RTSUP_M_EXEC, far), 1);
+	assert_memory_equal(&tm->cur, &t->cur, sizeof(t->cur));
 	model_free(&m);
 }
 
@@ -954,6 +1010,7 @@ int main(void)
 		TS(test_model_set_snapshots),
 		TS(test_model_life_hist_wrap),
 		TS(test_model_views_follow_moving_buckets),
+		TS(test_model_buckets_outside_the_banks),
 		TS(test_model_idle_snapshot_keeps_life_views),
 		TS(test_model_life_holds_counts_before_the_first_cycle),
 		M(test_model_get_sorted),
