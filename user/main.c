@@ -455,6 +455,8 @@ static int run_live(struct options *o, struct supervisor *s)
 				until = ov.end;
 			ms = (until - now) / 1000000 + 1;
 			ms = collector_poll_ms(&c, ms, child > 0 || actions_running(&act));
+			if (robot_tick_ms(&rb) && (__u64)ms > robot_tick_ms(&rb))
+				ms = (int)robot_tick_ms(&rb);	/* the watchdog's ping */
 			if (collector_poll(&c, ms) < 0)
 				break;
 			continue;

@@ -347,6 +347,36 @@ def test_parked_thread_policy_change_is_seen(tmp_path):
     assert fifo == list(range(fifo[0], len(seen))), "once read, it stays"
 
 
+def _voluntary_switches(pid):
+    with open("/proc/%d/status" % pid) as f:
+        for line in f:
+            if line.startswith("voluntary_ctxt_switches:"):
+                return int(line.split()[1])
+    raise AssertionError("no voluntary_ctxt_switches for %d" % pid)
+
+
+def test_quiet_loop_wakes_once_an_interval(tmp_path):
+    """With no event coming (a parked target), the loop waits for its next
+    interval instead of polling every 100 ms (collector_poll_ms): at a 1 s
+    interval it sleeps about once a second, where it slept ten times."""
+    lg = Loadgen(tmp_path, ["-n", "1", "-c", "1", "-r", "0"])
+    try:
+        lg.summary()  # its one cycle is done: parked from now on
+        tr = Trace(["-i", "1s", "--pid", str(lg.pid)])
+        time.sleep(3.0)  # past the start-up: its first overhead window and intervals
+        v0, t0 = _voluntary_switches(tr.proc.pid), time.monotonic()
+        time.sleep(4.0)
+        v1, t1 = _voluntary_switches(tr.proc.pid), time.monotonic()
+        tr.stop()
+    finally:
+        lg.stop()
+    per_s = (v1 - v0) / (t1 - t0)
+    # one sleep an interval; a second one when an overhead window ends in it
+    # (one interval in 30), and any sleep on a lock or a read: 3 a second is
+    # far from the 10 of a 100 ms poll
+    assert per_s < 3, "%.1f sleeps a second" % per_s
+
+
 def test_pid_target_includes_threads_created_later(tmp_path):
     go = tmp_path / "go"
     lg = Loadgen(tmp_path, ["--wait-file", str(go), "-c", "1000"])

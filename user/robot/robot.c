@@ -66,6 +66,11 @@ void robot_tick(struct robot *r)
 		service_tick(&r->sv, mono_now());
 }
 
+__u64 robot_tick_ms(const struct robot *r)
+{
+	return r->started && !r->stopped ? service_tick_ms(&r->sv) : 0;
+}
+
 void robot_interval(struct robot *r, struct collector *c, const struct supervisor *s,
 		    __u64 now)
 {

@@ -36,8 +36,10 @@ struct robot {
 int robot_prepare(struct robot *r, const struct options *o, struct supervisor *s);
 /* robot_start - after attach: --unit's cgroup, first metrics, /diagnostics, READY=1 */
 int robot_start(struct robot *r, struct collector *c, const struct supervisor *s);
-/* robot_tick - every pass of the main loop (at least every 100 ms): watchdog */
+/* robot_tick - every pass of the main loop: watchdog */
 void robot_tick(struct robot *r);
+/* robot_tick_ms - the longest the loop may go without robot_tick, 0 = no limit */
+__u64 robot_tick_ms(const struct robot *r);
 /* robot_interval - after the verdicts of an interval: metrics, /diagnostics, STATUS=, --unit */
 void robot_interval(struct robot *r, struct collector *c, const struct supervisor *s,
 		    __u64 now);

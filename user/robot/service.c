@@ -49,6 +49,11 @@ void service_status(struct service *sv, const char *status)
 	sd_notifyf(0, "STATUS=%s", status);
 }
 
+__u64 service_tick_ms(const struct service *sv)
+{
+	return sv->wd_usec ? (sv->wd_usec / 4 + 999) / 1000 : 0;
+}
+
 void service_tick(struct service *sv, __u64 now_ns)
 {
 	if (!sv->wd_usec || now_ns - sv->wd_last < sv->wd_usec * 1000 / 4)

@@ -31,6 +31,8 @@ void service_ready(struct service *sv, const char *status);
 void service_status(struct service *sv, const char *status);
 /* service_tick - from the main loop: a watchdog ping every quarter of WatchdogSec */
 void service_tick(struct service *sv, __u64 now_ns);
+/* service_tick_ms - how often service_tick must run: a quarter of WatchdogSec, 0 = off */
+__u64 service_tick_ms(const struct service *sv);
 /* service_reloading - RELOADING=1 (begin) or READY=1 (done) */
 void service_reloading(struct service *sv, bool done);
 /* service_stopping - STOPPING=1 */

@@ -145,6 +145,22 @@ static void test_service_outside_systemd(void **state)
 	service_tick(&sv, 1000000000ULL);
 	service_stopping(&sv);
 	assert_int_equal(sv.wd_last, 0);
+	assert_int_equal(service_tick_ms(&sv), 0);	/* the loop may wait as long as it likes */
+}
+
+/* the loop wakes for the watchdog's ping: a quarter of WatchdogSec, rounded up to a ms */
+static void test_service_tick_ms(void **state)
+{
+	struct service sv;
+
+	(void)state;
+	memset(&sv, 0, sizeof(sv));
+	sv.wd_usec = 10000000;	/* WatchdogSec=10s */
+	assert_int_equal(service_tick_ms(&sv), 2500);
+	sv.wd_usec = 1000000;	/* 1 s: shorter than the loop's quiet poll */
+	assert_int_equal(service_tick_ms(&sv), 250);
+	sv.wd_usec = 1001;
+	assert_int_equal(service_tick_ms(&sv), 1);
 }
 
 int main(void)
@@ -154,6 +170,7 @@ int main(void)
 		cmocka_unit_test(test_service_journal_fields_thread),
 		cmocka_unit_test(test_service_journal_fields_self),
 		cmocka_unit_test(test_service_outside_systemd),
+		cmocka_unit_test(test_service_tick_ms),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);
