@@ -686,6 +686,15 @@ static int take_same(struct collector *c, __u32 tid, const struct rtsup_thread_r
 	return 0;
 }
 
+/* rec_whole - the record at p + off, in *r, is whole within len (with its followers) */
+static bool rec_whole(const char *p, size_t off, size_t len, struct rtsup_thread_rec *r)
+{
+	if (off + sizeof(*r) > len)
+		return false;
+	memcpy(r, p + off, sizeof(*r));
+	return off + thread_rec_len(r) <= len;
+}
+
 /* rec_attrs - the attributes that follow record r at p, NULL if none */
 static const struct rtsup_task_attrs *rec_attrs(const struct rtsup_thread_rec *r,
 						const char *p)
@@ -708,10 +717,7 @@ static long take_recs(void *ctx, char *p, size_t len)
 	size_t off = 0;
 	int err;
 
-	for (; off + sizeof(r) <= len; off += thread_rec_len(&r)) {
-		memcpy(&r, p + off, sizeof(r));
-		if (off + thread_rec_len(&r) > len)
-			break;
+	for (; rec_whole(p, off, len, &r); off += thread_rec_len(&r)) {
 		tm = model_get(&c->model, r.tid, false);
 		if (tm && tm->seen)
 			continue;
@@ -743,10 +749,7 @@ static long take_tasks(void *ctx, char *p, size_t len)
 	struct thread_model *tm;
 	size_t off = 0;
 
-	for (; off + sizeof(r) <= len; off += thread_rec_len(&r)) {
-		memcpy(&r, p + off, sizeof(r));
-		if (off + thread_rec_len(&r) > len)
-			break;
+	for (; rec_whole(p, off, len, &r); off += thread_rec_len(&r)) {
 		tm = model_get(&c->model, r.tid, false);
 		if (tm)
 			note_task(c, tm, &r, rec_attrs(&r, p + off));

@@ -148,18 +148,18 @@ static bool same_block(const __u32 *a, const __u32 *b)
 }
 
 /*
- * delta_range - the buckets where cur and prev (NULL: zero) differ lie in
- * [*lo, *hi] (empty: *lo > *hi). Scanned from both ends: an interval's
- * values fill a few neighbouring buckets, so this is about one compare a
- * bucket, and what follows works on the few in between.
+ * delta_within - the buckets of [a, b] where cur and prev (NULL: zero)
+ * differ lie in [*lo, *hi] (empty: *lo > *hi). Scanned from both ends: an
+ * interval's values fill a few neighbouring buckets, so this is about one
+ * compare a bucket, and what follows works on the few in between.
  */
-static void delta_range(const __u32 *cur, const __u32 *prev, int *lo, int *hi)
+static void delta_within(const __u32 *cur, const __u32 *prev, int a, int b, int *lo, int *hi)
 {
 	static const __u32 zero[HIST_BUCKETS];
-	int a = 0, b = HIST_BUCKETS;
 
 	if (!prev)
 		prev = zero;
+	b++;	/* past the end, for the blocks */
 	/* whole blocks first: a compare the compiler makes one vector op */
 	while (a + DELTA_BLOCK <= b && same_block(cur + a, prev + a))
 		a += DELTA_BLOCK;
@@ -172,6 +172,12 @@ static void delta_range(const __u32 *cur, const __u32 *prev, int *lo, int *hi)
 		b--;
 	*lo = a;
 	*hi = b;
+}
+
+/* delta_range - delta_within over every bucket */
+static void delta_range(const __u32 *cur, const __u32 *prev, int *lo, int *hi)
+{
+	delta_within(cur, prev, 0, HIST_BUCKETS - 1, lo, hi);
 }
 
 /* banks_range - the buckets between the lowest and highest value of both banks of s */
@@ -219,12 +225,7 @@ static void moved_range(const struct rtsup_metric_stats *cur,
 		delta_range(cur->hist, base->hist, lo, hi);
 		return;
 	}
-	while (a <= b && cur->hist[a] == base->hist[a])
-		a++;
-	while (b > a && cur->hist[b] == base->hist[b])
-		b--;
-	*lo = a;
-	*hi = b;
+	delta_within(cur->hist, base->hist, a, b, lo, hi);
 }
 
 /* nonzero_range - the buckets of h that are not 0 lie in [*lo, *hi] */
