@@ -241,11 +241,12 @@ UNIT_DEPS_test_actions := user/robot/actions.c user/config/actionspec.c user/jud
 UNIT_LIBS_test_actions := -ljansson -lyaml
 UNIT_DEPS_test_targets := user/collect/targets.c
 UNIT_DEPS_test_pidns := user/collect/pidns.c
-UNIT_DEPS_test_selfsched := user/collect/selfsched.c
+UNIT_DEPS_test_selfsched := user/collect/selfsched.c user/collect/procfile.c
 UNIT_DEPS_test_clockwatch := user/collect/clockwatch.c
 UNIT_DEPS_test_procmaps := user/collect/procmaps.c
 UNIT_DEPS_test_fpcheck := user/collect/fpcheck.c
-UNIT_DEPS_test_taskattrs := user/collect/taskattrs.c user/collect/targets.c user/collect/iterread.c
+UNIT_DEPS_test_taskattrs := user/collect/taskattrs.c user/collect/targets.c user/collect/iterread.c \
+			  user/collect/procfile.c
 UNIT_LIBS_test_taskattrs := -lbpf
 UNIT_LIBS_test_fpcheck := -ldw -lelf
 UNIT_DEPS_test_stackagg := user/model/stackagg.c

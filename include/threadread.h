@@ -7,8 +7,9 @@
  * every interval to find it unchanged was most of rtsup-trace's CPU time
  * with 900 parked threads. Every hook that looks an entry up to write it
  * moves the entry's generation (thread_touch); the map iterator of the
- * sample (threads_read) sends a short record for an entry whose generation
- * did not move, and the whole entry for one whose did.
+ * sample (threads_read) sends nothing for an entry whose generation did not
+ * move (a short record when it read its task, thread_rec_skipped), and the
+ * whole entry for one whose did.
  *
  * A hook moves the generation before it writes (at the lookup), so a copy
  * taken while a hook runs may miss that hook's last writes. Every change
@@ -89,6 +90,18 @@ RTSUP_INLINE int thread_copy_due(__u32 gen, __u32 *seen, __u32 *again)
 		return 1;
 	}
 	return 0;
+}
+
+/*
+ * thread_rec_skipped - no record at all for an entry that is not copied
+ * and whose task was not read: the collector keeps what it holds of it
+ * (collector.c, take_kept). That is right only because entries leave the
+ * map by the collector alone, after it reported them: an entry the read
+ * did not show is one it did not copy, not one that went away.
+ */
+RTSUP_INLINE int thread_rec_skipped(__u16 full, __u16 task)
+{
+	return !full && task == THREAD_TASK_UNREAD;
 }
 
 /*

@@ -426,12 +426,21 @@ static void process_name(struct collector *c, const struct thread_model *tm, cha
 {
 	struct collector_pname *p = &c->pnames[tm->tgid % COLLECTOR_PNAMES];
 
+	char path[64], text[RTSUP_COMM_LEN + 1];
+
 	if (p->tgid == tm->tgid && p->seq == c->sample_seq) {
 		memcpy(pcomm, p->comm, RTSUP_COMM_LEN);
 		return;
 	}
-	if (thread_comm(tm->tgid, tm->tgid, pcomm, RTSUP_COMM_LEN))
+	if (p->tgid != tm->tgid)
+		procfile_close(&p->file);	/* another process's */
+	snprintf(path, sizeof(path), "/proc/%u/task/%u/comm", tm->tgid, tm->tgid);
+	if (procfile_read(&p->file, path, text, sizeof(text)) > 0) {
+		text[strcspn(text, "\n")] = '\0';
+		snprintf(pcomm, RTSUP_COMM_LEN, "%.*s", RTSUP_COMM_LEN - 1, text);
+	} else {
 		snprintf(pcomm, RTSUP_COMM_LEN, "%s", tm->comm);
+	}
 	comm_sanitize(pcomm, RTSUP_COMM_LEN);
 	p->tgid = tm->tgid;
 	p->seq = c->sample_seq;
@@ -779,12 +788,35 @@ static int read_tasks(struct collector *c)
 
 /*
  * read_changed - the thread map through its iterator (threadread.h): a
- * record per entry, the entry itself after it when it changed, taken read
- * by read (the buffer holds a read, not all 7 MiB of 1000 changed entries)
+ * record per entry that changed (the entry itself after it) or whose task
+ * it read, taken read by read (the buffer holds a read, not all 7 MiB of
+ * 1000 changed entries); the others are kept as they were (take_kept)
  */
 static int read_changed(struct collector *c)
 {
 	return iter_read_each(&c->threads_out, bpf_link__fd(threads_link(c)), take_recs, c);
+}
+
+/*
+ * take_kept - the threads the thread map's iterator sent nothing for
+ * (thread_rec_skipped): their entries did not change, their tasks were not
+ * read. Entries leave the map only by collector_reap, which marks their
+ * threads reported_exit first: any other thread the model holds is in the
+ * map still, as it was.
+ */
+static void take_kept(struct collector *c)
+{
+	struct thread_model *tm;
+	int i;
+
+	for (i = 0; i < c->model.n; i++) {
+		tm = c->model.t[i];
+		if (tm->seen || tm->reported_exit || !tm->cur.first_seen)
+			continue;
+		c->map_entries++;
+		model_idle(tm);
+		take_rest(c, tm, tm->tid, &tm->cur, NULL, NULL);
+	}
 }
 
 /* read_one_by_one - the thread map without batch operations (kernels < 5.6) */
@@ -847,8 +879,12 @@ static int read_threads(struct collector *c)
 	bool first = true;
 
 	c->map_entries = c->map_copied = c->map_moved = 0;
-	if (iter)
-		return read_changed(c);
+	if (iter) {
+		err = read_changed(c);
+		if (!err)
+			take_kept(c);
+		return err;
+	}
 	/* the tasks' attributes first: no task iterator runs (a failure: asked per thread) */
 	if (c->tasks)
 		read_tasks(c);
@@ -1159,6 +1195,10 @@ void collector_clear_events(struct collector *c)
 
 void collector_free(struct collector *c)
 {
+	int i;
+
+	for (i = 0; i < COLLECTOR_PNAMES; i++)
+		procfile_close(&c->pnames[i].file);
 	if (c->rb && c->epfd >= 0) {
 		close(c->epfd);
 		close(c->clock_fd);

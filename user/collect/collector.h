@@ -9,6 +9,7 @@
 
 #include <stdbool.h>
 #include "collect/iterread.h"
+#include "collect/procfile.h"
 #include "collect/taskattrs.h"
 #include "model/causes.h"
 #include "model/eventlog.h"
@@ -93,6 +94,7 @@ struct collector {
 		__u32 tgid;
 		__u64 seq;
 		char comm[RTSUP_COMM_LEN];
+		struct procfile file;	/* its main thread's comm, kept open */
 	} pnames[COLLECTOR_PNAMES];
 };
 

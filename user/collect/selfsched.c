@@ -1,11 +1,10 @@
 // SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
 /* selfsched.c - the main loop's own CPU and run-queue time (selfsched.h) */
 #include <errno.h>
-#include <fcntl.h>
 #include <inttypes.h>
 #include <stdio.h>
 #include <time.h>
-#include <unistd.h>
+#include "procfile.h"
 #include "selfsched.h"
 
 int self_sched_parse(const char *text, struct self_sched *out)
@@ -19,20 +18,20 @@ int self_sched_parse(const char *text, struct self_sched *out)
 	return 0;
 }
 
+/*
+ * the main loop's thread's file: only that thread reads it (an fd of
+ * /proc/thread-self is the opener's thread's)
+ */
+static struct procfile schedstat;
+
 int self_sched_read(struct self_sched *out)
 {
 	char buf[128];
-	ssize_t n;
-	int fd = open("/proc/thread-self/schedstat", O_RDONLY | O_CLOEXEC), err;
+	ssize_t n = procfile_read(&schedstat, "/proc/thread-self/schedstat", buf, sizeof(buf));
+	int err;
 
-	if (fd < 0)
-		return -errno;
-	n = read(fd, buf, sizeof(buf) - 1);
-	err = n < 0 ? -errno : 0;
-	close(fd);
-	if (err)
-		return err;
-	buf[n] = '\0';
+	if (n < 0)
+		return (int)n;
 	err = self_sched_parse(buf, out);
 	if (!err) {
 		struct timespec ts;

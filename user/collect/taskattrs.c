@@ -1,10 +1,8 @@
 // SPDX-License-Identifier: GPL-2.0 OR BSD-3-Clause
 /* taskattrs.c - the task iterator's records of the targets (taskattrs.h) */
 #include <errno.h>
-#include <fcntl.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 #include "collect/iterread.h"
 #include "taskattrs.h"
 #include "targets.h"
@@ -14,15 +12,12 @@ void task_attrs_online(struct task_attrs *ta)
 	unsigned long before[RTSUP_ATTR_CPU_WORDS];
 	bool ok = ta->online_ok;
 	char text[4096];
-	int fd = open("/sys/devices/system/cpu/online", O_RDONLY | O_CLOEXEC);
-	ssize_t n = fd < 0 ? -1 : read(fd, text, sizeof(text) - 1);
+	ssize_t n = procfile_read(&ta->online_file, "/sys/devices/system/cpu/online", text,
+				  sizeof(text));
 
-	if (fd >= 0)
-		close(fd);
 	memcpy(before, ta->online, sizeof(before));
 	ta->online_ok = false;
 	if (n > 0) {
-		text[n] = '\0';
 		ta->online_ok = !cpu_list_parse(text, ta->online, RTSUP_ATTR_CPU_WORDS * 64);
 	}
 	ta->online_moved = ta->online_ok != ok || memcmp(before, ta->online, sizeof(before));
@@ -104,5 +99,6 @@ void task_attrs_free(struct task_attrs *ta)
 {
 	free(ta->a);
 	iter_buf_free(&ta->out);
+	procfile_close(&ta->online_file);
 	memset(ta, 0, sizeof(*ta));
 }

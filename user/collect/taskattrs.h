@@ -13,6 +13,7 @@
 #include <stddef.h>
 #include "rtsup.h"
 #include "collect/iterread.h"
+#include "collect/procfile.h"
 
 struct task_attrs {
 	struct rtsup_task_attrs *a;	/* sorted by tid */
@@ -26,6 +27,7 @@ struct task_attrs {
 	unsigned long online[RTSUP_ATTR_CPU_WORDS];
 	bool online_ok;
 	bool online_moved;		/* not the mask of the read before */
+	struct procfile online_file;	/* /sys/devices/system/cpu/online, kept open */
 	/* the last mask task_attrs_cpus wrote out: a process's threads mostly share one */
 	unsigned long last_bits[RTSUP_ATTR_CPU_WORDS];
 	char last_list[512];

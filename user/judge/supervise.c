@@ -103,19 +103,35 @@ static void add_violation(struct supervisor *s, const char *comp, const struct s
 	memcpy(v->text, st->msg, st->nmsg * sizeof(st->msg[0]));
 }
 
-/* judge - a component's new status: log a change, keep violations */
+/*
+ * judge_comp - comp, or when NULL thread tm's component name: made only
+ * for a log line or a violation (a thousand snprintf an interval else)
+ */
+static const char *judge_comp(const char *comp, const struct thread_model *tm, char *buf,
+			      size_t len)
+{
+	if (comp)
+		return comp;
+	component_name(tm, buf, len);
+	return buf;
+}
+
+/* judge - a component's new status (comp NULL: thread tm's): log a change, keep violations */
 static void judge(struct supervisor *s, const char *comp, const struct status *old,
 		  const struct status *st, enum level *worst, __u64 now,
 		  const struct thread_model *tm)
 {
+	char name[48];
+
 	if (st->level != old->level)
-		log_change(s, comp, old->level, st->level, st, now, tm);
+		log_change(s, judge_comp(comp, tm, name, sizeof(name)), old->level, st->level, st,
+			   now, tm);
 	/*
 	 * the same complaint interval after interval is one violation, also when
 	 * its numbers grow ("no frame for 30 ms", then "for 40 ms")
 	 */
 	if (st->level >= LEVEL_WARN && !status_same_kind(st, old))
-		add_violation(s, comp, st, now);
+		add_violation(s, judge_comp(comp, tm, name, sizeof(name)), st, now);
 	if (st->level > *worst)
 		*worst = st->level;
 }
@@ -171,7 +187,7 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 			const struct self_in *self, __u64 now)
 {
 	struct status st, old;
-	char comp[48], names[256];
+	char names[256];
 	int i;
 
 	for (i = 0; i < m->n; i++) {
@@ -222,8 +238,7 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 		status_copy(&old, &tm->st);
 		status_copy(&tm->st, &st);
 		tm->level_changed = st.level != old.level;
-		component_name(tm, comp, sizeof(comp));
-		judge(s, comp, &old, &st, &tm->worst, now, tm);
+		judge(s, NULL, &old, &st, &tm->worst, now, tm);
 	}
 	s->overhead_pct = self->overhead_pct;
 	s->stats = self->stats;

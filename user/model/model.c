@@ -599,6 +599,7 @@ static bool model_views_spans(struct thread_model *tm, const struct rtsup_thread
 		model_idle(tm);
 		return false;
 	}
+	tm->win_idle = false;	/* written below */
 	if (life_add(tm, t, prev)) {	/* no lifetime counts: the kernel's buckets */
 		span_window(t, prev, bank, &tm->win);
 		span_life(t, &tm->life);
@@ -670,6 +671,10 @@ bool model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank
 
 void model_idle(struct thread_model *tm)
 {
+	/* a parked thread's window is empty already: its lines stay out of the cache */
+	if (tm->win_idle)
+		return;
+	tm->win_idle = true;
 	memset(&tm->win, 0, sizeof(tm->win));
 	if (tm->life_hist)
 		win_clear(tm->life_hist);
@@ -683,11 +688,11 @@ static int find(const struct model *m, __u32 tid, int *pos)
 	while (lo < hi) {
 		int mid = (lo + hi) / 2;
 
-		if (m->t[mid]->tid == tid) {
+		if (m->tids[mid] == tid) {
 			*pos = mid;
 			return 1;
 		}
-		if (m->t[mid]->tid < tid)
+		if (m->tids[mid] < tid)
 			lo = mid + 1;
 		else
 			hi = mid;
@@ -713,8 +718,13 @@ static int by_tid(const void *a, const void *b)
 
 void model_sort(struct model *m)
 {
-	if (m->nsorted < m->n)
+	int i;
+
+	if (m->nsorted < m->n) {
 		qsort(m->t, m->n, sizeof(*m->t), by_tid);
+		for (i = 0; i < m->n; i++)
+			m->tids[i] = m->t[i]->tid;
+	}
 	m->nsorted = m->n;
 }
 
@@ -724,8 +734,8 @@ bool model_sorted(const struct model *m)
 
 	if (m->nsorted < 0 || m->nsorted > m->n)
 		return false;
-	for (i = 1; i < m->nsorted; i++)
-		if (m->t[i - 1]->tid >= m->t[i]->tid)
+	for (i = 0; i < m->nsorted; i++)
+		if (m->tids[i] != m->t[i]->tid || (i && m->t[i - 1]->tid >= m->t[i]->tid))
 			return false;
 	return true;
 }
@@ -744,10 +754,15 @@ struct thread_model *model_get(struct model *m, __u32 tid, bool create)
 	if (m->n == m->cap) {
 		int cap = m->cap ? m->cap * 2 : 64;
 		struct thread_model **t = realloc(m->t, cap * sizeof(*t));
+		__u32 *tids;
 
 		if (!t)
 			return NULL;
 		m->t = t;
+		tids = realloc(m->tids, cap * sizeof(*tids));
+		if (!tids)
+			return NULL;
+		m->tids = tids;
 		m->cap = cap;
 	}
 	tm = calloc(1, sizeof(*tm));
@@ -758,8 +773,10 @@ struct thread_model *model_get(struct model *m, __u32 tid, bool create)
 	pos = m->n++;
 	m->t[pos] = tm;
 	/* after every sorted one: it stays sorted (tids mostly grow) */
-	if (m->nsorted == pos && (!pos || m->t[pos - 1]->tid < tid))
+	if (m->nsorted == pos && (!pos || m->tids[pos - 1] < tid)) {
+		m->tids[pos] = tid;
 		m->nsorted++;
+	}
 	return tm;
 }
 
@@ -779,8 +796,10 @@ void model_remove(struct model *m, __u32 tid)
 	thread_free(m->t[pos]);
 	memmove(&m->t[pos], &m->t[pos + 1], (m->n - pos - 1) * sizeof(*m->t));
 	m->n--;
-	if (pos < m->nsorted)
+	if (pos < m->nsorted) {
 		m->nsorted--;
+		memmove(&m->tids[pos], &m->tids[pos + 1], (m->nsorted - pos) * sizeof(*m->tids));
+	}
 }
 
 static int cmp_u64(const void *a, const void *b)
@@ -821,8 +840,11 @@ void model_prune_dead(struct model *m, int keep)
 			m->forgotten++;
 			continue;
 		}
-		if (i != j)
+		if (i != j) {
 			m->t[j] = m->t[i];
+			if (i < m->nsorted)
+				m->tids[j] = m->tids[i];
+		}
 		/* the order is kept: the sorted part stays sorted, shorter */
 		sorted += i < m->nsorted;
 		j++;
@@ -856,6 +878,7 @@ void model_free(struct model *m)
 	for (i = 0; i < m->n; i++)
 		thread_free(m->t[i]);
 	free(m->t);
+	free(m->tids);
 	memset(m, 0, sizeof(*m));
 }
 

@@ -83,28 +83,18 @@ struct thread_model {
 	bool alive;
 	bool reported_exit;
 	bool seen;		/* its entry was in the last read of the thread map */
-	struct rtsup_thread cur;	/* the last snapshot of the kernel entry */
 	/*
-	 * Computed once per snapshot (model_set) for every check and sink:
-	 * the interval (this snapshot minus the one before) and the lifetime.
+	 * Every interval reads or writes these of every thread, a parked one
+	 * too: together in the first cache lines, not one line each across
+	 * the model's 10 KiB
 	 */
-	struct span_view win;
-	struct span_view life;
-	/* the top cause of its deadline misses (causes.h): interval, lifetime; "" = none */
-	char why_win[160], why_life[160];
 	bool judged;			/* supervised in an earlier interval */
-	struct rtsup_thread *snap;	/* replay only: cur at the last interval */
 	struct life_hist *life_hist;	/* lifetime bucket counts, NULL until a snapshot */
 	int nsys;
-	struct sys_count sys[MODEL_MAX_SYS];
-	/* supervision: filled by the supervisor, read by the sinks */
 	char pcomm[RTSUP_COMM_LEN];	/* the process's name */
-	char cgroup[256];		/* cgroup v2 path, "" if unknown */
 	__u64 cgroup_id;		/* the id it was read for (task iterator), 0 = none */
-	/* its task's attributes as the thread map's iterator last read them (threadread.h) */
-	struct rtsup_task_attrs attrs;
-	__u64 attrs_seq;		/* the sample that read them, 0 = none yet */
-	bool attrs_applied;		/* policy, cpus and cgroup above are from them */
+	__u64 attrs_seq;		/* the sample that read attrs, 0 = none yet */
+	bool attrs_applied;		/* policy, cpus and cgroup are from attrs */
 	bool task_gone;			/* its last read found no task */
 	int rule;			/* index of the matching rule, -1 = defaults */
 	__u32 rule_gen;			/* config generation 'rule' belongs to, 0 = none */
@@ -114,14 +104,34 @@ struct thread_model {
 	bool replaced;			/* a restarted instance took its place */
 	bool was_rt;			/* it ran with an RT policy at some point */
 	bool kthread;			/* a kernel thread (PF_KTHREAD) */
-	struct status st;		/* verdict of the last interval */
 	bool level_changed;		/* st's level is not the interval before's */
 	enum level worst;		/* worst level ever reached */
 	__u64 dead_seq;			/* order of death, set by model_prune_dead */
+	bool win_idle;		/* win is empty (model_idle), as is life_hist's interval */
+	struct rtsup_thread cur;	/* the last snapshot of the kernel entry */
+	/*
+	 * Computed once per snapshot (model_set) for every check and sink:
+	 * the interval (this snapshot minus the one before) and the lifetime.
+	 */
+	struct span_view win;
+	struct span_view life;
+	/* the top cause of its deadline misses (causes.h): interval, lifetime; "" = none */
+	char why_win[160], why_life[160];
+	struct rtsup_thread *snap;	/* replay only: cur at the last interval */
+	struct sys_count sys[MODEL_MAX_SYS];
+	char cgroup[256];		/* cgroup v2 path, "" if unknown */
+	/* its task's attributes as the thread map's iterator last read them (threadread.h) */
+	struct rtsup_task_attrs attrs;
+	struct status st;		/* verdict of the last interval */
 };
 
 struct model {
 	struct thread_model **t;	/* by tid after model_sort (model_sorted) */
+	/*
+	 * t[i]->tid for i < nsorted: a search reads this array, not a cache
+	 * line of ten models (a thousand lookups an interval)
+	 */
+	__u32 *tids;
 	int n;
 	int cap;
 	int nsorted;			/* t[0..nsorted) by tid, then arrivals in their order */
@@ -199,11 +209,10 @@ void model_idle(struct thread_model *tm);
 struct thread_model *model_get(struct model *m, __u32 tid, bool create);
 /* model_sort - every thread in tid order, for the outputs (pointers into t change) */
 void model_sort(struct model *m);
-/* model_sorted - the invariant model_sort restores: t[0..nsorted) strictly by tid */
-bool model_sorted(const struct model *m);
-/* model_sort - every thread in tid order, for the outputs (pointers into t change) */
-void model_sort(struct model *m);
-/* model_sorted - the invariant of the sorted part: t[0..nsorted) strictly by tid */
+/*
+ * model_sorted - the invariant of the sorted part, which model_sort
+ * restores: t[0..nsorted) strictly by tid, and tids[i] their tids
+ */
 bool model_sorted(const struct model *m);
 /* model_remove - forget a thread */
 void model_remove(struct model *m, __u32 tid);

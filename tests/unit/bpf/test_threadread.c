@@ -133,6 +133,38 @@ static void test_task_read_spread_over_tids(void **state)
 	}
 }
 
+/*
+ * what the iterator writes of a parked entry: nothing, but at the reads of
+ * its task; of a moved one, its record and copy (thread_rec_write's order:
+ * the task's read decided first, then the copy)
+ */
+static void test_parked_entry_written_only_for_its_task(void **state)
+{
+	struct rtsup_thread t;
+	__u32 seq, tid = 77, written = 0;
+	__u16 task;
+	int full;
+
+	(void)state;
+	memset(&t, 0, sizeof(t));
+	read_once(&t);
+	read_once(&t);
+	for (seq = 1; seq <= 8 * THREAD_TASK_EVERY; seq++) {
+		task = task_due(&t, tid, seq) ? THREAD_TASK_ATTRS : THREAD_TASK_UNREAD;
+		full = read_once(&t);
+		assert_false(full);
+		written += !thread_rec_skipped(full, task);
+	}
+	assert_int_equal(written, 8);
+	/* a task gone is said, read or not */
+	assert_false(thread_rec_skipped(0, THREAD_TASK_GONE));
+	/* moved: written, with its copy, at this read and the next */
+	thread_touch(&t);
+	assert_false(thread_rec_skipped(read_once(&t), THREAD_TASK_UNREAD));
+	assert_false(thread_rec_skipped(read_once(&t), THREAD_TASK_UNREAD));
+	assert_true(thread_rec_skipped(read_once(&t), THREAD_TASK_UNREAD));
+}
+
 /* a record's length: the attributes and the entry follow it when it says so */
 static void test_rec_len(void **state)
 {
@@ -162,6 +194,7 @@ int main(void)
 		cmocka_unit_test(test_normalized_copies_equal),
 		cmocka_unit_test(test_task_read_parked_rarely_moved_always),
 		cmocka_unit_test(test_task_read_spread_over_tids),
+		cmocka_unit_test(test_parked_entry_written_only_for_its_task),
 		cmocka_unit_test(test_rec_len),
 	};
 
