@@ -425,7 +425,6 @@ static void rematch(struct thread_model *tm)
 static void process_name(struct collector *c, const struct thread_model *tm, char *pcomm)
 {
 	struct collector_pname *p = &c->pnames[tm->tgid % COLLECTOR_PNAMES];
-
 	char path[64], text[RTSUP_COMM_LEN + 1];
 
 	if (p->tgid == tm->tgid && p->seq == c->sample_seq) {
