@@ -675,15 +675,14 @@ static int take(struct collector *c, __u32 tid, struct rtsup_thread *t,
 }
 
 /*
- * take_same - the iterator says tid's entry did not change since it was
- * last copied: what take makes of the same bytes, without them. An entry
- * the model does not hold (it cannot be, but the kernel decides) is read.
+ * take_unchanged - tid's entry did not change since it was last copied
+ * (tm: its model, NULL if none): what take makes of the same bytes, without
+ * them. An entry the model does not hold (it cannot be, but the kernel
+ * decides) is read.
  */
-static int take_same(struct collector *c, __u32 tid, const struct rtsup_thread_rec *r,
-		     const struct rtsup_task_attrs *a)
+static int take_unchanged(struct collector *c, struct thread_model *tm, __u32 tid,
+			  const struct rtsup_thread_rec *r, const struct rtsup_task_attrs *a)
 {
-	struct thread_model *tm = model_get(&c->model, tid, false);
-
 	if (!tm || !tm->cur.first_seen) {
 		if (bpf_map_lookup_elem(bpf_map__fd(c->skel->maps.threads), &tid, c->batch_vals))
 			return 0;	/* gone since: as if never read */
@@ -692,6 +691,13 @@ static int take_same(struct collector *c, __u32 tid, const struct rtsup_thread_r
 	model_idle(tm);
 	take_rest(c, tm, tid, &tm->cur, r, a);
 	return 0;
+}
+
+/* take_same - the iterator's record says tid's entry did not change (take_unchanged) */
+static int take_same(struct collector *c, __u32 tid, const struct rtsup_thread_rec *r,
+		     const struct rtsup_task_attrs *a)
+{
+	return take_unchanged(c, model_get(&c->model, tid, false), tid, r, a);
 }
 
 /* rec_whole - the record at p + off, in *r, is whole within len (with its followers) */
@@ -803,19 +809,21 @@ static int read_changed(struct collector *c)
  * threads reported_exit first: any other thread the model holds is in the
  * map still, as it was.
  */
-static void take_kept(struct collector *c)
+static int take_kept(struct collector *c)
 {
 	struct thread_model *tm;
-	int i;
+	int i, err;
 
 	for (i = 0; i < c->model.n; i++) {
 		tm = c->model.t[i];
-		if (tm->seen || tm->reported_exit || !tm->cur.first_seen)
+		if (tm->seen || tm->reported_exit)
 			continue;
 		c->map_entries++;
-		model_idle(tm);
-		take_rest(c, tm, tm->tid, &tm->cur, NULL, NULL);
+		err = take_unchanged(c, tm, tm->tid, NULL, NULL);
+		if (err)
+			return err;
 	}
+	return 0;
 }
 
 /* read_one_by_one - the thread map without batch operations (kernels < 5.6) */
@@ -880,9 +888,7 @@ static int read_threads(struct collector *c)
 	c->map_entries = c->map_copied = c->map_moved = 0;
 	if (iter) {
 		err = read_changed(c);
-		if (!err)
-			take_kept(c);
-		return err;
+		return err ?: take_kept(c);
 	}
 	/* the tasks' attributes first: no task iterator runs (a failure: asked per thread) */
 	if (c->tasks)
