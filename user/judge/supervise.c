@@ -202,6 +202,8 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 			find_restart(m, tm);
 		tm->judged = true;
 		r = supervise_rule(s, tm);
+		if (r->th.lifetime)
+			model_life_settle(tm);	/* the totals' percentiles checked too */
 		unsafe_names(tm, names, sizeof(names));
 		memset(&in, 0, sizeof(in));
 		in.win = &tm->win;

@@ -275,9 +275,8 @@ static void view_quantiles(const __u64 *h, int b0, int b1, __u64 sum, struct met
 	v->p999 = out[2];
 }
 
-/* view_counts - metric_view_counts with h's non-zero buckets in [lo, hi] */
-static void view_counts(const struct rtsup_metric_stats *s, const __u64 *h, int lo, int hi,
-			struct metric_view *v)
+/* view_scalars - a view of s without its percentiles (0) */
+static void view_scalars(const struct rtsup_metric_stats *s, struct metric_view *v)
 {
 	memset(v, 0, sizeof(*v));
 	v->count = s->count;
@@ -287,6 +286,15 @@ static void view_counts(const struct rtsup_metric_stats *s, const __u64 *h, int 
 	v->max = s->max;
 	v->mean = (double)s->sum / (double)s->count;
 	v->ewma = (double)s->ewma / (1 << RTSUP_EWMA_SHIFT);
+}
+
+/* view_counts - metric_view_counts with h's non-zero buckets in [lo, hi] */
+static void view_counts(const struct rtsup_metric_stats *s, const __u64 *h, int lo, int hi,
+			struct metric_view *v)
+{
+	view_scalars(s, v);
+	if (!s->count)
+		return;
 	view_quantiles(h, lo, hi, s->sum, v);
 }
 
@@ -603,6 +611,7 @@ static bool model_views_spans(struct thread_model *tm, const struct rtsup_thread
 	if (life_add(tm, t, prev)) {	/* no lifetime counts: the kernel's buckets */
 		span_window(t, prev, bank, &tm->win);
 		span_life(t, &tm->life);
+		tm->life_due = 0;	/* percentiles and all, from them */
 		return true;
 	}
 	l = tm->life_hist;
@@ -618,10 +627,35 @@ static bool model_views_spans(struct thread_model *tm, const struct rtsup_thread
 			      &tm->win.m[i]);
 		if (had_life && base && life_view_kept(l, &t->m[i], &base->m[i], i))
 			continue;
-		life_counts(l, i, t->m[i].hist, h);
-		view_counts(&t->m[i], h, l->lo[i], l->hi[i], &tm->life.m[i]);
+		view_scalars(&t->m[i], &tm->life.m[i]);
+		tm->life_due |= 1u << i;	/* from l and t, which model_set keeps as cur */
 	}
 	return true;
+}
+
+void model_life_settle(struct thread_model *tm)
+{
+	const struct life_hist *l = tm->life_hist;
+	__u64 h[HIST_BUCKETS];
+	int i;
+
+	for (i = 0; l && tm->life_due && i < RTSUP_M_NR; i++) {
+		struct metric_view *v = &tm->life.m[i];
+
+		if (!(tm->life_due & (1u << i)) || !v->count)
+			continue;
+		life_counts(l, i, tm->cur.m[i].hist, h);
+		view_quantiles(h, l->lo[i], l->hi[i], tm->cur.m[i].sum, v);
+	}
+	tm->life_due = 0;
+}
+
+void model_settle_all(struct model *m)
+{
+	int i;
+
+	for (i = 0; i < m->n; i++)
+		model_life_settle(m->t[i]);
 }
 
 bool model_views(struct thread_model *tm, const struct rtsup_thread *t,

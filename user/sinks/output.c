@@ -1042,17 +1042,20 @@ static void table_summary(const struct collector *c, const struct supervisor *sv
 	fflush(stdout);
 }
 
-void output_interval(const struct collector *c, const struct supervisor *s, double elapsed,
+void output_interval(struct collector *c, const struct supervisor *s, double elapsed,
 		     double interval)
 {
-	if (c->o->json)
+	if (c->o->json) {
+		model_settle_all(&c->model);	/* each thread's "total" */
 		json_interval(c, s, elapsed, interval);
-	else
-		table_interval(c, s, elapsed, interval);
+	} else {
+		table_interval(c, s, elapsed, interval);	/* the interval's views only */
+	}
 }
 
-void output_summary(const struct collector *c, const struct supervisor *s, double elapsed)
+void output_summary(struct collector *c, const struct supervisor *s, double elapsed)
 {
+	model_settle_all(&c->model);	/* the totals, and --hist's */
 	if (c->o->json)
 		json_summary(c, s, elapsed);
 	else

@@ -10,11 +10,14 @@
 #include "collect/collector.h"
 #include "judge/supervise.h"
 
-/* output_interval - report the interval that collector_sample just ended */
-void output_interval(const struct collector *c, const struct supervisor *s, double elapsed,
+/*
+ * output_interval - report the interval that collector_sample just ended;
+ * JSON settles the lifetime percentiles of its "total" (model_life_settle)
+ */
+void output_interval(struct collector *c, const struct supervisor *s, double elapsed,
 		     double interval);
-/* output_summary - the final report over the whole run */
-void output_summary(const struct collector *c, const struct supervisor *s, double elapsed);
+/* output_summary - the final report over the whole run, lifetime percentiles settled */
+void output_summary(struct collector *c, const struct supervisor *s, double elapsed);
 /* output_error - an error line: JSON on stdout in JSON mode, always stderr */
 void output_error(const struct options *o, const char *msg);
 
