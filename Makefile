@@ -234,6 +234,10 @@ UNIT_DEPS_test_perfetto := user/sinks/perfetto.c user/sinks/jsonstr.c user/sinks
 	user/model/causes.c user/model/syscalls.c
 UNIT_LIBS_test_perfetto := -ljansson
 UNIT_DEPS_test_checks := user/judge/checks.c user/model/model.c user/judge/status.c
+UNIT_DEPS_test_supervise := user/judge/supervise.c user/judge/checks.c user/model/model.c \
+	user/model/canmodel.c user/judge/status.c $(CONFIG_SRCS) user/model/syscalls.c \
+	user/config/actionspec.c
+UNIT_LIBS_test_supervise := -lyaml
 UNIT_DEPS_test_status := user/judge/status.c
 UNIT_DEPS_test_health := user/judge/health.c
 UNIT_DEPS_test_actionspec := user/config/actionspec.c user/judge/status.c
