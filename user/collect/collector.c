@@ -654,6 +654,7 @@ static int take(struct collector *c, __u32 tid, struct rtsup_thread *t,
 		const struct rtsup_thread_rec *r, const struct rtsup_task_attrs *a)
 {
 	struct thread_model *tm = model_get(&c->model, tid, true);
+	bool fresh;
 
 	c->map_copied++;
 	thread_rec_normalize(t);
@@ -668,8 +669,9 @@ static int take(struct collector *c, __u32 tid, struct rtsup_thread *t,
 		if (!tm)
 			return -ENOMEM;
 	}
-	if (model_set(tm, t, c->bank))
-		c->map_moved++;
+	fresh = !tm->cur.first_seen;
+	if (model_set(tm, t, c->bank) && !fresh)
+		c->map_moved++;	/* a first copy says nothing of the next (batch_read_cheaper) */
 	take_rest(c, tm, tid, t, r, a);
 	return 0;
 }
@@ -869,7 +871,11 @@ static int grow_batch(struct collector *c)
  * 64 (1000 threads all at 10 Hz: +8 % of the loop's CPU), and the batches
  * copy the few that did not move too. The iterator's own fields stay
  * right across batch reads: it skips only an entry whose generation did
- * not move since its own last copy, older than the batch's.
+ * not move since its own last copy, older than the batch's. Moved means
+ * since an earlier copy: at start-up every entry is new, and a batch read
+ * at the second sample left the iterator's second copies to the third
+ * (900 parked threads: three full reads instead of two, 2.4 ms a second
+ * for two seconds).
  */
 static bool batch_read_cheaper(const struct collector *c)
 {

@@ -74,7 +74,7 @@ struct collector {
 	/* or, where the kernel has its iterator, the entries that changed (threadread.h) */
 	struct iter_buf threads_out;
 	__u32 map_copied;		/* entries copied out whole at the last sample */
-	__u32 map_moved;		/* entries whose bytes changed since the sample before */
+	__u32 map_moved;		/* entries whose bytes changed since an earlier copy */
 	/* --stacks: the stack records, their own ring so events keep their order */
 	struct ring_buffer *stack_rb;
 	struct unwinder *unwinder;
