@@ -332,6 +332,29 @@ def per_record(r, res, v, base, cost):
     return out
 
 
+def per_thread(us, a):
+    """What a thread costs the loop, from the table modes: 5 running alone (the fixed
+    part), 1000 running, 5 running and 900 parked; medians, µs of CPU a second"""
+    def cpu_us(mode, n):
+        xs = [u["cpu_s"] / u["seconds"] * 1e6 for u in us
+              if u.get("output") == mode and u.get("threads_target") == n]
+        return med(xs) if xs else None
+    few, run, parked = cpu_us("table, 5", 5), cpu_us("table", 1000), \
+        cpu_us("table, 5 and 900 idle", 905)
+    if few is None or run is None or parked is None:
+        return
+    a("Per thread, table output (medians; a thread's share is the difference from 5 "
+      "running alone, so read it with the rounds' spread):")
+    a("")
+    a("| | µs of CPU a second |")
+    a("|---|---:|")
+    a("| 5 running alone: the part that does not grow with threads | %.0f |" % few)
+    a("| each running thread (1000 running, less the 5) | %.2f |" % ((run - few) / 995))
+    a("| each parked thread (5 running and 900 parked, less the 5) | %.2f |"
+      % ((parked - few) / 900))
+    a("")
+
+
 def stacks_section(r, res, a):
     """--stacks: per captured event (kernel side, userspace), clean cycles, sizes"""
     vs = [v for v in ("stacks_fp", "stacks_dwarf", "stacks_auto") if r.ran(v)]
@@ -553,7 +576,8 @@ def render(r, res, made):
         a("%s %s |" % (what, yes(med(d) * 100 <= T_SYSCALL_PCT) if v == "per" else "shown beside"))
     us = res.get("userspace", [])
     for mode in dict.fromkeys(u.get("output", "json") for u in us):
-        uu = [u for u in us if u.get("output", "json") == mode]
+        uu = [u for u in us if u.get("output", "json") == mode and
+              u.get("threads_target", 1000) == 1000]
         if not uu:
             continue
         cpu, peak = med([u["cpu_pct"] for u in uu]), max(u["rss_peak_kb"] for u in uu) / 1024
@@ -699,19 +723,22 @@ def render(r, res, made):
         a("`rtsup-loadgen -n 1000 -P 100000 -w 0 -r 1` (1000 SCHED_FIFO threads at 10 Hz) "
           "under `rtsup-trace --pid PID -i 1s` (the table), with `-j`, and as prom: the table and `--prom-textfile` (the service's output); "
           "\"900 idle\": 100 such threads and 900 SCHED_OTHER ones that run one cycle and stay parked "
-          "(`-c 1 --hold`, a second `--pid`), as on a robot where most threads wait; CPU time of every rtsup-trace thread from "
-          "`/proc/PID/task/*/schedstat` over %.0f s after a 2 s start, RSS from `/proc/PID/status`."
-          % med([u["seconds"] for u in us]))
+          "(`-c 1 --hold`, a second `--pid`), as on a robot where most threads wait; %sCPU time of every rtsup-trace thread from "
+          "`/proc/PID/task/*/schedstat` over %.0f s after a %.0f s start, RSS from `/proc/PID/status`."
+          % ("\"5\": 5 such threads alone, and with the 900 parked ones (for the cost of a "
+             "thread, below); " if any(u.get("threads_target", 1000) != 1000 for u in us) else "",
+             med([u["seconds"] for u in us]), max(u.get("settle_s", 2) for u in us)))
         a("")
         a("| round | output | threads reported | output per s | CPU | share of one CPU | RSS peak |")
         a("|---:|---|---:|---:|---:|---:|---:|")
         for u in us:
             a("| %d | %s | %d | %s | %.1f ms | %.2f %% | %.1f MiB |" % (
                 u["rep"], u.get("output", "json"), u["threads_seen"],
-                "%.0f KiB" % (u["output_bytes"] / 1024 / (u["seconds"] + 2))
+                "%.0f KiB" % (u["output_bytes"] / 1024 / (u["seconds"] + u.get("settle_s", 2)))
                 if u.get("output_bytes") else "-",
                 u["cpu_s"] * 1000, u["cpu_pct"], u["rss_peak_kb"] / 1024))
         a("")
+        per_thread(us, a)
 
     rp = res.get("replayed", [])
     if rp:
