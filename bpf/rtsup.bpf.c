@@ -102,6 +102,10 @@ __s64 clock_off[16];		/* clock id -> its offset to CLOCK_MONOTONIC */
 /* The tid bitmaps and their rules: include/rtsup.h */
 __u64 tidmask[RTSUP_TIDMASK_WORDS];	/* may have an entry in threads */
 __u64 wakemask[RTSUP_TIDMASK_WORDS];	/* its next wakeup time may be read */
+/* The thread map's reads: the ring "moved" says which entries (threadread.h) */
+__u32 threads_moved_seq;	/* moved at the start of each read (0: none yet, whole) */
+__u32 threads_moved_lost;	/* a send failed: the next read walks the whole map */
+__u32 threads_attrs_moved;	/* a task changed cgroups: the same, its tasks read too */
 /* The --can interfaces, followed by userspace when one comes back (can.h) */
 struct rtsup_can_watch can_watch[RTSUP_CAN_WATCH];
 
@@ -280,6 +284,17 @@ struct {
 	__uint(max_entries, 4096);
 } cycles SEC(".maps");
 
+/*
+ * The tids of the entries hooks looked up since the collector's last read,
+ * each once a read (threadread.h): 4096 threads fill 64 KiB of it at most
+ * between two reads. Never wakes the loop: read at each sample. Sized by
+ * userspace for --max-threads.
+ */
+struct {
+	__uint(type, BPF_MAP_TYPE_RINGBUF);
+	__uint(max_entries, 128 * 1024);
+} moved SEC(".maps");
+
 /* User stacks at RT-unsafe events (--stacks); sized by userspace when on. */
 struct {
 	__uint(type, BPF_MAP_TYPE_RINGBUF);
@@ -384,12 +399,31 @@ static __always_inline void note_wake(const struct rtsup_thread *t)
  * thread_entry - tid's entry, for a hook that may write it: its generation
  * moves (threadread.h). The only lookup of the thread map but thread_exists.
  */
+/*
+ * moved_send - name the entry t of tid in the ring "moved" for read seq
+ * (threadread.h): once a read a thread, so out of line, not in every hook
+ */
+static __noinline int moved_send(struct rtsup_thread *t, __u32 tid, __u32 seq)
+{
+	if (!t)
+		return 0;
+	if (bpf_ringbuf_output(&moved, &tid, sizeof(tid), BPF_RB_NO_WAKEUP))
+		threads_moved_lost = 1;
+	else
+		t->moved_seq = seq;
+	return 0;
+}
+
 static __always_inline struct rtsup_thread *thread_entry(__u32 tid)
 {
 	struct rtsup_thread *t = bpf_map_lookup_elem(&threads, &tid);
+	__u32 seq = threads_moved_seq;
 
-	if (t)
-		thread_touch(t);
+	if (!t)
+		return NULL;
+	thread_touch(t);
+	if (thread_moved_due(t->moved_seq, seq))
+		moved_send(t, tid, seq);
 	return t;
 }
 
@@ -1636,6 +1670,8 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 			.minflt = TREAD(btf, prev, min_flt), .majflt = TREAD(btf, prev, maj_flt),
 		};
 
+		thread_sched_seen(pt, TREAD(btf, prev, policy), TREAD(btf, prev, rt_priority),
+				  TREAD(btf, prev, nr_cpus_allowed));
 		if (!voluntary) {
 			in.policy = TREAD(btf, prev, policy);
 			in.prio = why_rt(in.policy) ? (__s32)TREAD(btf, prev, rt_priority) : 0;
@@ -1651,6 +1687,17 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 		why_steal_in(&nt->why, cpu, cpu_steal(cpu));
 		why_settle(nt);
 	}
+	return 0;
+}
+
+/*
+ * on_cgroup_attach - a task (or a process) moved to another cgroup: rare,
+ * and once per process whatever its threads, so any move makes the
+ * collector's next read whole, with every entry's task (threadread.h)
+ */
+static __always_inline int on_cgroup_attach(void)
+{
+	threads_attrs_moved = 1;
 	return 0;
 }
 
@@ -1741,13 +1788,16 @@ static __always_inline int on_fork(struct task_struct *parent, struct task_struc
  * on_setsched - --rt: a thread's policy changed (rtfollow.h). Once per
  * change, instead of a policy read at every switch-in: an RT thread is
  * adopted, one that --rt alone followed and that left RT is marked for
- * userspace to let go.
+ * userspace to let go. A target's entry counts the change, as its next
+ * switch-in would (thread_sched_seen), for a parked one too.
  */
 static __always_inline int on_setsched(struct task_struct *p)
 {
 	__u32 tid = p->pid, tgid = p->tgid;
 	struct rtsup_thread *t = maybe_target(tid) ? thread_entry(tid) : NULL;
 
+	if (t)
+		t->setsched++;
 	switch (rt_on_policy(p->policy, t)) {
 	case RT_ADOPT:
 		rt_add(p);
@@ -2231,7 +2281,11 @@ int BPF_PROG(sched_process_exit_##sfx, struct task_struct *task)		\
 { return BODY(on_exit(task)); }							\
 SEC(kind "/signal_deliver")							\
 int BPF_PROG(signal_deliver_##sfx, int sig)					\
-{ return BODY(on_signal(sig)); }
+{ return BODY(on_signal(sig)); }							\
+SEC(kind "/cgroup_attach_task")							\
+int BPF_PROG(cgroup_attach_task_##sfx, struct cgroup *dst, const char *path,	\
+	     struct task_struct *task, bool threadgroup)				\
+{ return BODY(on_cgroup_attach()); }
 
 #define RTSUP_CAN_PROGS(kind, sfx, btf)						\
 SEC(kind "/net_dev_start_xmit")							\

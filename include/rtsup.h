@@ -407,7 +407,7 @@ struct rtsup_thread {
 	__u32 gen;		/* moved by every hook that may write it (threadread.h) */
 	__u32 read_seen;	/* the collector's iterator's: gen + 1 as last copied */
 	__u32 read_again;	/* ... and the second copy of a change is due */
-	__u32 read_pad;
+	__u32 moved_seq;	/* the read it was sent to the ring "moved" for (threadread.h) */
 	struct rtsup_cycle_state cs;
 	__u32 tid;
 	__u32 tgid;
@@ -436,6 +436,8 @@ struct rtsup_thread {
 	__u32 unseen_in;	/* activations begun with no switch-in seen (cycle_running) */
 	__u32 rt;		/* --rt: RTSUP_RT_ONLY, RTSUP_RT_LEFT (rtfollow.h) */
 	__u32 exit_group;	/* its process ended with it (exit_group, a fatal signal) */
+	__u32 setsched;		/* attribute changes seen (thread_sched_seen): read them again */
+	__u32 sched_seen;	/* policy, RT priority, CPUs allowed at its last switch-out */
 	__u64 compat_sys;	/* 32-bit syscalls (ia32, arm32): other numbers, not classified */
 	struct rtsup_metric_stats m[RTSUP_M_NR];
 	struct rtsup_why why;	/* cause attribution (cause.h) */

@@ -17,6 +17,15 @@
  * at the next read, an interval later, when every hook that moved it has
  * long returned (hooks run for microseconds, intervals last 100 ms or
  * more). No barrier is needed, on any architecture.
+ *
+ * Walking the map still visits every entry: with 900 parked threads that
+ * visit (a cache miss each) was the largest cost left. So the hooks also
+ * say which entries moved: the first time a hook looks an entry up after
+ * the collector began a read (threads_moved_seq), it sends the tid to the
+ * ring "moved" (thread_moved_due). Most samples the collector copies only
+ * those entries, and the ones it copied at the sample before (the second
+ * copy), one lookup each, and visits no other (thread_read_whole says when
+ * the iterator reads the whole map instead).
  */
 #ifndef RTSUP_THREADREAD_H
 #define RTSUP_THREADREAD_H
@@ -54,9 +63,86 @@ enum thread_task {
  */
 #define THREAD_TASK_EVERY	8
 
-RTSUP_INLINE int thread_task_due(__u32 gen, __u32 seen, __u32 again, __u32 tid, __u32 seq)
+RTSUP_INLINE int thread_task_due(__u32 gen, __u32 seen, __u32 again, __u32 tid, __u32 seq,
+				 __u32 all)
 {
-	return seen != gen + 1 || again || (tid + seq) % THREAD_TASK_EVERY == 0;
+	return all || seen != gen + 1 || again || (tid + seq) % THREAD_TASK_EVERY == 0;
+}
+
+/*
+ * thread_moved_due - must a hook that just looked an entry up send its tid
+ * to the ring "moved"? Once per read: moved_seq is the read (of
+ * threads_moved_seq, never 0) it was last sent for. A send that failed
+ * (the ring full) leaves moved_seq, so the next lookup tries again, and
+ * threads_moved_lost makes the collector's next read whole.
+ */
+RTSUP_INLINE int thread_moved_due(__u32 moved_seq, __u32 read_seq)
+{
+	return moved_seq != read_seq;
+}
+
+/*
+ * thread_sched_seen - at a target's switch-out, its policy, RT priority and
+ * number of allowed CPUs (every switch-out looks its entry up, not every
+ * switch-in: rtsup.h): not those of the last one, they changed
+ * (whoever changed them: the thread, another one, chrt, taskset), and the
+ * collector reads its attributes at the next sample (setsched), not at the
+ * next whole read. A move to another cgroup makes the next read whole
+ * (threads_attrs_moved); only a new mask of as many CPUs waits for the
+ * whole read of every THREAD_TASK_EVERY-th sample. Three loads of fields
+ * the scheduler just read, for targets only. A parked thread has no
+ * switch-out: its changes wait for the whole read, as before.
+ */
+RTSUP_INLINE void thread_sched_seen(struct rtsup_thread *t, __u32 policy, __u32 rt_priority,
+				    __u32 nr_cpus)
+{
+	__u32 v = policy << 28 | (rt_priority & 0xff) << 20 | (nr_cpus & 0xfffff);
+
+	if (t->sched_seen != v) {
+		t->sched_seen = v;
+		t->setsched++;
+	}
+}
+
+/*
+ * thread_moved_ring_bytes - the ring "moved" for max_threads entries: each
+ * is sent at most once a read (a record of 16 bytes: its header and tid),
+ * and twice between two reads of the collector at most (once before it
+ * moved threads_moved_seq, once after); a power of 2 of pages, as the
+ * kernel wants
+ */
+RTSUP_INLINE __u32 thread_moved_ring_bytes(__u32 max_threads, __u32 page)
+{
+	__u64 need = (__u64)max_threads * 2 * 16, n = page;
+
+	while (n < need)
+		n *= 2;
+	return (__u32)n;
+}
+
+/*
+ * thread_read_whole - does the collector's read of sample 'seq' walk the
+ * whole map (the iterator, or batches) rather than copy only the entries
+ * the ring named? Whole when:
+ * - there is no ring (moved_ok false);
+ * - the first two samples (entries the start-up scan wrote; their second copy);
+ * - every THREAD_TASK_EVERY-th sample: the tasks' attributes of every entry
+ *   (only another thread changes a parked one's), and a net under the ring;
+ * - forced: a send to the ring failed, or a task moved to another cgroup
+ *   (threads_attrs_moved: the tasks of every entry are read);
+ * - the lookups of the entries due (ndue, a tid named twice counted
+ *   twice) would cost more than the walk: THREAD_LOOKUP_VISITS visits of
+ *   an entry that did not move each, and the walk's fixed part costs
+ *   THREAD_WALK_LOOKUPS lookups (docs/performance.md).
+ */
+#define THREAD_LOOKUP_VISITS	4
+#define THREAD_WALK_LOOKUPS	100
+
+RTSUP_INLINE int thread_read_whole(int moved_ok, __u64 seq, int forced, __u32 ndue,
+				   __u32 nentries)
+{
+	return !moved_ok || seq <= 2 || seq % THREAD_TASK_EVERY == 0 || forced ||
+	       (__u64)ndue * THREAD_LOOKUP_VISITS > nentries + THREAD_WALK_LOOKUPS * THREAD_LOOKUP_VISITS;
 }
 
 /* thread_rec_len - the bytes of a record with its followers */
@@ -113,6 +199,7 @@ RTSUP_INLINE void thread_rec_normalize(struct rtsup_thread *t)
 {
 	t->read_seen = 0;
 	t->read_again = 0;
+	t->moved_seq = 0;
 }
 
 #endif

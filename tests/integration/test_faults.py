@@ -332,6 +332,9 @@ def test_max_threads_reached(tmp_path):
     fill = dict(h["thread_map"])
     # the entries the last read copied whole: those that changed (threadread.h)
     assert 0 <= fill.pop("copied") <= 4, h
+    # those the read looked at: all, or those the hooks named (threadread.h)
+    visited = fill.pop("visited")
+    assert visited == 4 if fill.pop("whole") else 0 <= visited <= 4, h
     assert fill == {"entries": 4, "capacity": 4, "fill_pct": 100.0, "near_full": True}, h
     assert not h["ok"]
     # every report carries it, and the counter never goes back

@@ -179,6 +179,13 @@ def test_parked_threads_are_not_copied(tmp_path):
     assert maps[0]["copied"] == n + 1 and maps[1]["copied"] == n + 1, maps
     # no hook wrote a parked thread's entry: nothing copied after the second read
     assert len(maps) >= 6 and all(m["copied"] == 0 for m in maps[2:]), maps
+    # ... nor named in the ring: a read visits none of them, but the whole
+    # read of every THREAD_TASK_EVERY-th sample, which visits all
+    assert maps[0]["whole"] and maps[1]["whole"], maps
+    for m in maps[2:]:
+        assert m["visited"] == (n + 1 if m["whole"] else 0), maps
+    wholes = sum(m["whole"] for m in maps[2:])
+    assert wholes <= -(-len(maps[2:]) // THREAD_TASK_EVERY), maps
     got = threads_by_tid(summary)
     for t in truth["threads"]:
         assert got[t["tid"]]["comm"] == t["comm"]
@@ -277,8 +284,10 @@ def _tid_named(pid, comm, timeout=30):
 
 @pytest.mark.skipif(os.cpu_count() < 2, reason="needs two CPUs to move a thread")
 def test_policy_and_affinity_changes_are_seen(tmp_path):
-    # policy, priority and CPUs are asked every interval: a chrt or
-    # taskset on a running thread shows in the following intervals
+    """A chrt or taskset of a running target shows at the next sample:
+    its next switch-out counts the change (thread_sched_seen in
+    include/threadread.h), and the sample asks for its attributes again,
+    without waiting for the whole read of every THREAD_TASK_EVERY-th."""
     prefix = unique_prefix()
     tr = Trace(["-i", "200ms", "--comm=%s-0" % prefix])
     lg = Loadgen(tmp_path, ["--name", prefix, "-n", "1", "-c", "100000"], hold=False)
@@ -288,6 +297,7 @@ def test_policy_and_affinity_changes_are_seen(tmp_path):
         subprocess.run(["chrt", "-f", "-p", "70", str(tid)], check=True)
         subprocess.run(["taskset", "-p", "-c", "0", str(tid)], check=True,
                        stdout=subprocess.DEVNULL)
+        changed = time.time()
         time.sleep(0.8 if not EMULATED else 4)
         intervals, _, _ = tr.stop()
     finally:
@@ -299,6 +309,13 @@ def test_policy_and_affinity_changes_are_seen(tmp_path):
     assert seen[0]["prio"] == 80 and seen[0]["cpus"] == "0-%d" % (os.cpu_count() - 1)
     assert seen[-1]["policy"] == "SCHED_FIFO" and seen[-1]["prio"] == 70
     assert seen[-1]["cpus"] == "0"
+    after = [[t for t in i["threads"] if t["tid"] == tid] for i in intervals
+             if _written_at(i) > changed]
+    new = [k for k, x in enumerate(after)
+           if x and x[0]["prio"] == 70 and x[0]["cpus"] == "0"]
+    # the first interval written after the change may have been sampled
+    # before it: the next one has it, whole read or not
+    assert new and new[0] <= 1, [(x[0]["prio"], x[0]["cpus"]) for x in after if x]
 
 
 # include/threadread.h: a parked target's task is read every THREAD_TASK_EVERY samples

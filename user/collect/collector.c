@@ -256,6 +256,8 @@ static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, unsig
 		unwind_note_process(c->unwinder, tgid);
 		unwind_take_verdicts(c->unwinder, put_verdict, c);
 	}
+	/* written here, not by a hook: named for the next read */
+	movedset_note(&c->moved, key);
 	if (bpf_map_update_elem(bpf_map__fd(c->skel->maps.threads), &key, t, BPF_NOEXIST) &&
 	    errno != EEXIST) {
 		if (errno != E2BIG)
@@ -293,6 +295,10 @@ int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct opt
 		return -1;
 	}
 	watch_clock(c);
+	/* without it every read walks the whole map */
+	if (movedset_open(&c->moved, bpf_map__fd(skel->maps.moved)))
+		fprintf(stderr, "rtsup-trace: the ring of moved threads: %s (every read is whole)\n",
+			strerror(errno));
 	if (open_stacks(c))
 		return -1;
 	err = targets_scan(&o->targets, add_initial, c);
@@ -455,7 +461,7 @@ static const struct rtsup_task_attrs *sample_attrs(const struct collector *c,
 {
 	/* read at this sample, or at one before and not moved since (thread_task_due) */
 	if (c->tasks)
-		return tm->attrs_seq && !tm->task_gone ? &tm->attrs : NULL;
+		return tm->attrs_seq && !tm->task_gone && !tm->attrs_stale ? &tm->attrs : NULL;
 	return task_attrs_of(&c->attrs, tm->tid);
 }
 
@@ -471,6 +477,7 @@ static void note_task(const struct collector *c, struct thread_model *tm,
 	tm->task_gone = r->task == THREAD_TASK_GONE;
 	if (!a)
 		return;
+	tm->attrs_stale = false;
 	if (memcmp(&tm->attrs, a, sizeof(*a))) {
 		tm->attrs = *a;
 		tm->attrs_applied = false;
@@ -484,7 +491,7 @@ static void note_task(const struct collector *c, struct thread_model *tm,
  */
 static bool attrs_kept(const struct collector *c, const struct thread_model *tm)
 {
-	return c->tasks && tm->attrs_applied && !tm->task_gone &&
+	return c->tasks && tm->attrs_applied && !tm->task_gone && !tm->attrs_stale &&
 	       !c->attrs.online_moved;
 }
 
@@ -670,6 +677,9 @@ static int take(struct collector *c, __u32 tid, struct rtsup_thread *t,
 			return -ENOMEM;
 	}
 	fresh = !tm->cur.first_seen;
+	/* its policy changed (thread_sched_seen): the attributes last read are not the task's */
+	if (!fresh && t->setsched != tm->cur.setsched)
+		tm->attrs_stale = true;
 	if (model_set(tm, t, c->bank) && !fresh)
 		c->map_moved++;	/* a first copy says nothing of the next (batch_read_cheaper) */
 	take_rest(c, tm, tid, t, r, a);
@@ -882,8 +892,8 @@ static bool batch_read_cheaper(const struct collector *c)
 	return c->map_entries >= 256 && c->map_moved * 4 >= c->map_entries * 3;
 }
 
-/* read_threads - the whole thread map, batch_cap entries per syscall */
-static int read_threads(struct collector *c)
+/* read_whole - the whole thread map, through its iterator or batch_cap entries per syscall */
+static int read_whole(struct collector *c)
 {
 	int fd = bpf_map__fd(c->skel->maps.threads), err;
 	bool iter = threads_link(c) && !batch_read_cheaper(c);
@@ -891,7 +901,6 @@ static int read_threads(struct collector *c)
 	__u32 n, i;
 	bool first = true;
 
-	c->map_entries = c->map_copied = c->map_moved = 0;
 	if (iter) {
 		err = read_changed(c);
 		return err ?: take_kept(c);
@@ -927,6 +936,64 @@ static int read_threads(struct collector *c)
 		first = false;
 	} while (!err);
 	return 0;
+}
+
+/*
+ * read_named - only the entries the ring named (movedset.h), a lookup
+ * each; the others did not change and are kept (take_kept). A tid named
+ * twice is taken once; one with no entry was reaped after it was named.
+ */
+static int read_named(struct collector *c)
+{
+	const struct tid_list *l[] = { &c->moved.now, &c->moved.again };
+	int fd = bpf_map__fd(c->skel->maps.threads), err;
+	struct thread_model *tm;
+	__u32 i, k, tid;
+
+	for (k = 0; k < 2; k++) {
+		for (i = 0; i < l[k]->n; i++) {
+			tid = l[k]->tid[i];
+			tm = model_get(&c->model, tid, false);
+			if (tm && tm->seen)
+				continue;
+			c->map_visited++;
+			if (bpf_map_lookup_elem(fd, &tid, c->batch_vals))
+				continue;
+			c->map_entries++;
+			err = take(c, tid, c->batch_vals, NULL, NULL);
+			if (err)
+				return err;
+		}
+	}
+	return take_kept(c);
+}
+
+/*
+ * read_threads - the entries the ring named, or the whole thread map
+ * (thread_read_whole): through its iterator, or batch_cap entries per syscall
+ */
+static int read_threads(struct collector *c)
+{
+	bool named = c->moved.rb != NULL;
+	/* a tid the collector could not keep (out of memory) */
+	bool forced = named && movedset_begin(&c->moved, &c->skel->bss->threads_moved_seq);
+	int err;
+
+	c->map_entries = c->map_copied = c->map_moved = c->map_visited = 0;
+	/* a send the ring refused (full), a task that changed cgroups */
+	if (__atomic_exchange_n(&c->skel->bss->threads_moved_lost, 0, __ATOMIC_RELAXED) |
+	    __atomic_exchange_n(&c->skel->bss->threads_attrs_moved, 0, __ATOMIC_RELAXED))
+		forced = true;
+	c->map_whole = thread_read_whole(named, c->sample_seq, forced,
+					 movedset_due(&c->moved), (__u32)c->model.n);
+	if (c->tasks)
+		c->tasks->bss->threads_read_all_tasks = named;
+	err = c->map_whole ? read_whole(c) : read_named(c);
+	if (c->map_whole)
+		c->map_visited = c->map_entries;
+	if (named)
+		movedset_end(&c->moved);
+	return err;
 }
 
 /*
@@ -1226,4 +1293,5 @@ void collector_free(struct collector *c)
 	free(c->batch_vals);
 	iter_buf_free(&c->threads_out);
 	task_attrs_free(&c->attrs);
+	movedset_free(&c->moved);
 }

@@ -9,6 +9,7 @@
 
 #include <stdbool.h>
 #include "collect/iterread.h"
+#include "collect/movedset.h"
 #include "collect/procfile.h"
 #include "collect/taskattrs.h"
 #include "model/causes.h"
@@ -75,6 +76,10 @@ struct collector {
 	struct iter_buf threads_out;
 	__u32 map_copied;		/* entries copied out whole at the last sample */
 	__u32 map_moved;		/* entries whose bytes changed since an earlier copy */
+	__u32 map_visited;		/* entries the last sample's read looked at */
+	bool map_whole;			/* ... all of them: it walked the map (threadread.h) */
+	/* the entries the hooks named since the last read (threadread.h) */
+	struct movedset moved;
 	/* --stacks: the stack records, their own ring so events keep their order */
 	struct ring_buffer *stack_rb;
 	struct unwinder *unwinder;

@@ -18,6 +18,7 @@
 #include "rtsup.h"
 #include "can.h"	/* the skeleton's .bss holds can_if_slot */
 #include "rtfollow.h"
+#include "threadread.h"
 #include "rtsup.skel.h"
 #include "rtsup_empty.skel.h"
 #include "rtsup_tasks.skel.h"
@@ -673,6 +674,8 @@ int loader_start(struct loader *l, const struct options *o)
 	bpf_map__set_max_entries(s->maps.threads, o->max_threads);
 	bpf_map__set_max_entries(s->maps.unsafe_sys, o->max_threads * 4);
 	bpf_map__set_max_entries(s->maps.thread_cfg, o->max_threads);
+	bpf_map__set_max_entries(s->maps.moved,
+				 thread_moved_ring_bytes(o->max_threads, (__u32)getpagesize()));
 	s->rodata->cfg_stacks = o->stacks;
 	s->rodata->cfg_stack_size = o->stack_size;
 	s->rodata->cfg_stack_any = o->stack_any;

@@ -34,6 +34,8 @@ struct health {
 	__u64 hook_runs_recovered;	/* of them, delimiter returns found otherwise */
 	struct health_map thread_map;
 	__u32 thread_map_copied;	/* of its entries, copied out whole at the last read */
+	__u32 thread_map_visited;	/* ... looked at by the last read */
+	bool thread_map_whole;		/* ... which walked the whole map (threadread.h) */
 	struct health_map can_id_map;	/* capacity 0 without --can */
 };
 

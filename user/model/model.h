@@ -96,6 +96,7 @@ struct thread_model {
 	__u64 attrs_seq;		/* the sample that read attrs, 0 = none yet */
 	bool attrs_applied;		/* policy, cpus and cgroup are from attrs */
 	bool task_gone;			/* its last read found no task */
+	bool attrs_stale;		/* the policy hook saw a change since attrs was read */
 	int rule;			/* index of the matching rule, -1 = defaults */
 	__u32 rule_gen;			/* config generation 'rule' belongs to, 0 = none */
 	__u32 cfg_gen;			/* config generation written to the kernel */

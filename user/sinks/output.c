@@ -439,13 +439,19 @@ static json_t *json_map_fill(const struct health_map *m)
 			 health_near_full(m));
 }
 
-/* json_thread_map - the thread map's fill, and how many entries the last read copied */
+/*
+ * json_thread_map - the thread map's fill, and how many entries the last
+ * read looked at and copied, and whether it walked the whole map
+ */
 static json_t *json_thread_map(const struct health *h)
 {
 	json_t *o = json_map_fill(&h->thread_map);
 
-	if (json_is_object(o))
+	if (json_is_object(o)) {
 		json_object_set_new(o, "copied", json_integer(h->thread_map_copied));
+		json_object_set_new(o, "visited", json_integer(h->thread_map_visited));
+		json_object_set_new(o, "whole", json_boolean(h->thread_map_whole));
+	}
 	return o;
 }
 

@@ -74,6 +74,7 @@ static void test_normalized_copies_equal(void **state)
 	read_once(&t);
 	b = t;
 	assert_memory_not_equal(&a, &b, sizeof(a));	/* the reader's fields moved */
+	a.moved_seq = 3;	/* as a hook named it for the ring (thread_moved_due) */
 	thread_rec_normalize(&a);
 	thread_rec_normalize(&b);
 	assert_memory_equal(&a, &b, sizeof(a));
@@ -82,7 +83,7 @@ static void test_normalized_copies_equal(void **state)
 /* is the entry's task read at read seq? (as the iterator decides, before its copy) */
 static int task_due(const struct rtsup_thread *t, __u32 tid, __u32 seq)
 {
-	return thread_task_due(t->gen, t->read_seen, t->read_again, tid, seq);
+	return thread_task_due(t->gen, t->read_seen, t->read_again, tid, seq, 0);
 }
 
 /*
@@ -186,6 +187,92 @@ static void test_rec_len(void **state)
 	assert_int_equal(thread_rec_len(&r), sizeof(r) + sizeof(struct rtsup_thread));
 }
 
+/* a hook's lookup names the entry in the ring once a read: as thread_entry does */
+static int hook_names(struct rtsup_thread *t, __u32 read_seq, int send_ok)
+{
+	if (!thread_moved_due(t->moved_seq, read_seq))
+		return 0;
+	if (send_ok)
+		t->moved_seq = read_seq;
+	return 1;
+}
+
+static void test_moved_named_once_a_read(void **state)
+{
+	struct rtsup_thread t;
+
+	(void)state;
+	memset(&t, 0, sizeof(t));
+	/* before the first read (seq 0): not named, the first two reads are whole */
+	assert_false(hook_names(&t, 0, 1));
+	assert_true(hook_names(&t, 1, 1));
+	assert_false(hook_names(&t, 1, 1));
+	assert_false(hook_names(&t, 1, 1));
+	/* the next read began: named again, once */
+	assert_true(hook_names(&t, 2, 1));
+	assert_false(hook_names(&t, 2, 1));
+	/* the ring was full: the next lookup tries again */
+	assert_true(hook_names(&t, 3, 0));
+	assert_true(hook_names(&t, 3, 1));
+	assert_false(hook_names(&t, 3, 1));
+}
+
+/* which reads walk the whole map */
+static void test_read_whole_when(void **state)
+{
+	__u64 seq;
+	int whole = 0;
+
+	(void)state;
+	assert_true(thread_read_whole(0, 5, 0, 0, 1000));	/* no ring */
+	assert_true(thread_read_whole(1, 1, 0, 0, 1000));	/* start-up's two */
+	assert_true(thread_read_whole(1, 2, 0, 0, 1000));
+	assert_true(thread_read_whole(1, 5, 1, 0, 1000));	/* lost, a cgroup move */
+	for (seq = 3; seq < 3 + 10 * THREAD_TASK_EVERY; seq++)
+		whole += thread_read_whole(1, seq, 0, 0, 1000);
+	assert_int_equal(whole, 10);				/* the tasks, all of them */
+	/* 100 running and 900 parked: 200 named (twice each), named read */
+	assert_false(thread_read_whole(1, 5, 0, 200, 1000));
+	/* all 1000 running: the walk is cheaper */
+	assert_true(thread_read_whole(1, 5, 0, 2000, 1000));
+	/* a few threads: the walk's fixed part makes their lookups cheaper */
+	assert_false(thread_read_whole(1, 5, 0, 20, 11));
+}
+
+/* a target's switch-out: a change of what the collector reads of its task counts */
+static void test_sched_seen_counts_changes(void **state)
+{
+	struct rtsup_thread t;
+
+	(void)state;
+	memset(&t, 0, sizeof(t));
+	thread_sched_seen(&t, 0, 0, 2);	/* the first: unknown before */
+	assert_int_equal(t.setsched, 1);
+	thread_sched_seen(&t, 0, 0, 2);
+	assert_int_equal(t.setsched, 1);
+	thread_sched_seen(&t, 1, 70, 2);	/* chrt -f 70 */
+	assert_int_equal(t.setsched, 2);
+	thread_sched_seen(&t, 1, 71, 2);
+	assert_int_equal(t.setsched, 3);
+	thread_sched_seen(&t, 1, 71, 1);	/* taskset -c 0 */
+	assert_int_equal(t.setsched, 4);
+	thread_sched_seen(&t, 1, 71, 1);
+	assert_int_equal(t.setsched, 4);
+	thread_sched_seen(&t, 0, 0, 1);	/* back to SCHED_OTHER */
+	assert_int_equal(t.setsched, 5);
+}
+
+/* the ring holds two sends of every entry, in whole pages */
+static void test_moved_ring_bytes(void **state)
+{
+	(void)state;
+	assert_int_equal(thread_moved_ring_bytes(4096, 4096), 128 * 1024);
+	assert_int_equal(thread_moved_ring_bytes(1, 4096), 4096);
+	assert_int_equal(thread_moved_ring_bytes(5000, 4096), 256 * 1024);
+	assert_int_equal(thread_moved_ring_bytes(4096, 65536), 128 * 1024);
+	assert_int_equal(thread_moved_ring_bytes(1, 65536), 65536);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -196,6 +283,10 @@ int main(void)
 		cmocka_unit_test(test_task_read_spread_over_tids),
 		cmocka_unit_test(test_parked_entry_written_only_for_its_task),
 		cmocka_unit_test(test_rec_len),
+		cmocka_unit_test(test_moved_named_once_a_read),
+		cmocka_unit_test(test_read_whole_when),
+		cmocka_unit_test(test_sched_seen_counts_changes),
+		cmocka_unit_test(test_moved_ring_bytes),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);
