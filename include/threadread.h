@@ -133,7 +133,8 @@ RTSUP_INLINE __u32 thread_moved_ring_bytes(__u32 max_threads, __u32 page)
  * - the lookups of the entries due (ndue, a tid named twice counted
  *   twice) would cost more than the walk: THREAD_LOOKUP_VISITS visits of
  *   an entry that did not move each, and the walk's fixed part costs
- *   THREAD_WALK_LOOKUPS lookups (docs/performance.md).
+ *   THREAD_WALK_LOOKUPS lookups (a lookup and its copy ~1 us, a visit
+ *   0.26 us, the walk's buckets and file ~100 us: docs/performance.md).
  */
 #define THREAD_LOOKUP_VISITS	4
 #define THREAD_WALK_LOOKUPS	100
@@ -141,8 +142,10 @@ RTSUP_INLINE __u32 thread_moved_ring_bytes(__u32 max_threads, __u32 page)
 RTSUP_INLINE int thread_read_whole(int moved_ok, __u64 seq, int forced, __u32 ndue,
 				   __u32 nentries)
 {
+	__u64 walk = (__u64)nentries + THREAD_WALK_LOOKUPS * THREAD_LOOKUP_VISITS;
+
 	return !moved_ok || seq <= 2 || seq % THREAD_TASK_EVERY == 0 || forced ||
-	       (__u64)ndue * THREAD_LOOKUP_VISITS > nentries + THREAD_WALK_LOOKUPS * THREAD_LOOKUP_VISITS;
+	       (__u64)ndue * THREAD_LOOKUP_VISITS > walk;
 }
 
 /* thread_rec_len - the bytes of a record with its followers */

@@ -99,7 +99,7 @@ def test_guest_init_pins_every_tracepoint_rtsup_attaches():
     init = (ROOT / "scripts" / "vm" / "guest-init").read_text()
     pinned = {e.split("/")[1] for e in re.findall(r"\b[a-z_]+/[a-z_0-9]+\b", init)
               if e.split("/")[0] in ("sched", "raw_syscalls", "task", "signal", "net", "irq",
-                                     "exceptions")}
+                                     "exceptions", "cgroup")}
     assert len(attached) >= 16 and attached <= pinned, attached - pinned
 
 
