@@ -396,10 +396,6 @@ static __always_inline void note_wake(const struct rtsup_thread *t)
 }
 
 /*
- * thread_entry - tid's entry, for a hook that may write it: its generation
- * moves (threadread.h). The only lookup of the thread map but thread_exists.
- */
-/*
  * moved_send - name the entry t of tid in the ring "moved" for read seq
  * (threadread.h): once a read a thread, so out of line, not in every hook
  */
@@ -414,6 +410,10 @@ static __noinline int moved_send(struct rtsup_thread *t, __u32 tid, __u32 seq)
 	return 0;
 }
 
+/*
+ * thread_entry - tid's entry, for a hook that may write it: its generation
+ * moves (threadread.h). The only lookup of the thread map but thread_exists.
+ */
 static __always_inline struct rtsup_thread *thread_entry(__u32 tid)
 {
 	struct rtsup_thread *t = bpf_map_lookup_elem(&threads, &tid);
@@ -1670,11 +1670,12 @@ static __always_inline int on_switch(bool preempt, struct task_struct *prev,
 			.minflt = TREAD(btf, prev, min_flt), .majflt = TREAD(btf, prev, maj_flt),
 		};
 
-		thread_sched_seen(pt, TREAD(btf, prev, policy), TREAD(btf, prev, rt_priority),
-				  TREAD(btf, prev, nr_cpus_allowed));
+		__u32 policy = TREAD(btf, prev, policy), rt_prio = TREAD(btf, prev, rt_priority);
+
+		thread_sched_seen(pt, policy, rt_prio, TREAD(btf, prev, nr_cpus_allowed));
 		if (!voluntary) {
-			in.policy = TREAD(btf, prev, policy);
-			in.prio = why_rt(in.policy) ? (__s32)TREAD(btf, prev, rt_priority) : 0;
+			in.policy = policy;
+			in.prio = why_rt(in.policy) ? (__s32)rt_prio : 0;
 		}
 		ev = switch_out_state(pt, &in);
 		switch_out_events(pt, &in, ev);
@@ -1789,7 +1790,7 @@ static __always_inline int on_fork(struct task_struct *parent, struct task_struc
  * change, instead of a policy read at every switch-in: an RT thread is
  * adopted, one that --rt alone followed and that left RT is marked for
  * userspace to let go. A target's entry counts the change, as its next
- * switch-in would (thread_sched_seen), for a parked one too.
+ * switch-out would (thread_sched_seen), for a parked one too.
  */
 static __always_inline int on_setsched(struct task_struct *p)
 {

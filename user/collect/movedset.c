@@ -23,14 +23,12 @@ static int tid_push(struct tid_list *l, __u32 tid)
 
 static int on_moved(void *ctx, void *data, size_t len)
 {
-	struct movedset *ms = ctx;
 	__u32 tid;
 
 	if (len < sizeof(tid))
 		return 0;
 	memcpy(&tid, data, sizeof(tid));
-	if (tid_push(&ms->now, tid))
-		ms->err = -ENOMEM;
+	movedset_note(ctx, tid);
 	return 0;
 }
 
