@@ -22,7 +22,7 @@ extern void bpf_task_release(struct task_struct *p) __ksym;
 /* Written by the collector before each read. */
 __u32 threads_read_tasks_only;	/* copy no entry: a batch read does */
 __u32 threads_read_seq;		/* its sample: which parked entries' tasks (thread_task_due) */
-__u32 threads_read_all_tasks;	/* every entry's task: the ring names moved entries */
+__u32 threads_read_tasks;	/* whose tasks: enum thread_tasks_read */
 
 /*
  * task_of_entry - the attributes of the task with the entry's tid; enum
@@ -54,7 +54,7 @@ int threads_read_attrs(struct bpf_iter__bpf_map_elem *ctx)
 	if (!tid || !t)
 		return 0;
 	if (thread_task_due(t->gen, t->read_seen, t->read_again, *tid, threads_read_seq,
-			    threads_read_all_tasks))
+			    threads_read_tasks))
 		task = task_of_entry(*tid, &a);
 	return thread_rec_write(ctx->meta->seq, *tid, t, task, &a, threads_read_tasks_only);
 }

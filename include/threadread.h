@@ -54,19 +54,36 @@ enum thread_task {
 };
 
 /*
+ * Which entries' tasks a read of the iterator reads (threads_read_tasks),
+ * thread_read_tasks says: without the ring, those thread_task_due picks;
+ * with it, every entry's at the reads that must see them all, and none at
+ * a walk taken only because it costs less than the lookups (1000 running
+ * threads: their switch-outs say when their attributes move,
+ * thread_sched_seen, and the pid lookups were a sixth of the read).
+ */
+enum thread_tasks_read {
+	THREAD_TASKS_DUE,
+	THREAD_TASKS_ALL,
+	THREAD_TASKS_NONE,
+};
+
+/*
  * thread_task_due - does the iterator read the task of an entry (of
- * generation gen, reader fields seen and again) at read 'seq'? The pid
- * lookup costs about as much as the rest of the visit: an entry that moved
- * since its last copy is read every time, one that did not (a parked
- * thread: only another thread can change its attributes) every
- * THREAD_TASK_EVERY reads, spread over the tids, and whenever it moves again.
+ * generation gen, reader fields seen and again) at read 'seq', in mode
+ * 'which' (enum thread_tasks_read)? The pid lookup costs about as much as
+ * the rest of the visit: an entry that moved since its last copy is read
+ * every time, one that did not (a parked thread: only another thread can
+ * change its attributes) every THREAD_TASK_EVERY reads, spread over the
+ * tids, and whenever it moves again.
  */
 #define THREAD_TASK_EVERY	8
 
 RTSUP_INLINE int thread_task_due(__u32 gen, __u32 seen, __u32 again, __u32 tid, __u32 seq,
-				 __u32 all)
+				 __u32 which)
 {
-	return all || seen != gen + 1 || again || (tid + seq) % THREAD_TASK_EVERY == 0;
+	if (which != THREAD_TASKS_DUE)
+		return which == THREAD_TASKS_ALL;
+	return seen != gen + 1 || again || (tid + seq) % THREAD_TASK_EVERY == 0;
 }
 
 /*
@@ -139,13 +156,33 @@ RTSUP_INLINE __u32 thread_moved_ring_bytes(__u32 max_threads, __u32 page)
 #define THREAD_LOOKUP_VISITS	4
 #define THREAD_WALK_LOOKUPS	100
 
+/* thread_read_all - a read with the ring that must see every entry and its task */
+RTSUP_INLINE int thread_read_all(__u64 seq, int forced)
+{
+	return seq <= 2 || seq % THREAD_TASK_EVERY == 0 || forced;
+}
+
 RTSUP_INLINE int thread_read_whole(int moved_ok, __u64 seq, int forced, __u32 ndue,
 				   __u32 nentries)
 {
 	__u64 walk = (__u64)nentries + THREAD_WALK_LOOKUPS * THREAD_LOOKUP_VISITS;
 
-	return !moved_ok || seq <= 2 || seq % THREAD_TASK_EVERY == 0 || forced ||
+	return !moved_ok || thread_read_all(seq, forced) ||
 	       (__u64)ndue * THREAD_LOOKUP_VISITS > walk;
+}
+
+/*
+ * thread_read_tasks - the tasks a whole read of sample seq reads (enum
+ * thread_tasks_read). A walk only cheaper than the lookups reads none: a
+ * task whose attributes the collector holds from an earlier read keeps
+ * them (the switch-outs and the cgroup hook say when they move), and one
+ * it holds none for is asked of the kernel, as in a read of the named.
+ */
+RTSUP_INLINE __u32 thread_read_tasks(int moved_ok, __u64 seq, int forced)
+{
+	if (!moved_ok)
+		return THREAD_TASKS_DUE;
+	return thread_read_all(seq, forced) ? THREAD_TASKS_ALL : THREAD_TASKS_NONE;
 }
 
 /* thread_rec_len - the bytes of a record with its followers */

@@ -260,6 +260,8 @@ static void take_health(struct supervisor *s, const struct collector *c, const s
 	h->thread_map_copied = c->map_copied;
 	h->thread_map_visited = c->map_visited;
 	h->thread_map_whole = c->map_whole;
+	h->thread_map_batch = c->map_batch;
+	h->thread_map_tasks = c->map_tasks;
 	h->thread_map.capacity = c->o->max_threads;
 	if (s->can) {
 		h->can_id_map.entries = s->can->n;

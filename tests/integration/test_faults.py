@@ -334,7 +334,12 @@ def test_max_threads_reached(tmp_path):
     assert 0 <= fill.pop("copied") <= 4, h
     # those the read looked at: all, or those the hooks named (threadread.h)
     visited = fill.pop("visited")
-    assert visited == 4 if fill.pop("whole") else 0 <= visited <= 4, h
+    whole = fill.pop("whole")
+    assert visited == 4 if whole else 0 <= visited <= 4, h
+    # a whole read reads its tasks through the iterator, or in batches:
+    # every task, or none (threadread.h, thread_read_tasks)
+    batch, tasks = fill.pop("batch"), fill.pop("tasks")
+    assert tasks in (0, 4) and (whole or (not batch and tasks == 0)), h
     assert fill == {"entries": 4, "capacity": 4, "fill_pct": 100.0, "near_full": True}, h
     assert not h["ok"]
     # every report carries it, and the counter never goes back

@@ -194,6 +194,47 @@ def test_parked_threads_are_not_copied(tmp_path):
         assert all(x["interval"]["cycles"] == 0 for x in i["threads"]), i
 
 
+def test_running_threads_read_in_batches_without_tasks(tmp_path):
+    """Threads that all cycle every interval: looking up each named entry
+    would cost more than walking the map (thread_read_whole), and batches of
+    entries less than the iterator's reads (batch_read_cheaper, decided from
+    the read before): the map is read in batches. Their tasks are read only
+    at the reads that must see every one (the first two and every
+    THREAD_TASK_EVERY-th sample, thread_read_tasks): the switch-outs say when
+    a running thread's attributes move. No count is lost on the way."""
+    n, period_us, cycles = 300, 100_000, 30
+    go = tmp_path / "go"
+    lg = Loadgen(tmp_path, ["--name", unique_prefix(), "-n", str(n), "-P", str(period_us),
+                            "-w", "0", "-c", str(cycles), "--wait-file", str(go)])
+    # 3 intervals a period: every worker cycles in each of them
+    tr = Trace(["-p", str(lg.pid), "-i", "300ms", "--json-threads", "active"])
+    try:
+        go.touch()
+        truth = lg.summary()
+        intervals, summary, _ = tr.stop()
+    finally:
+        lg.stop()
+    workers = {t["tid"] for t in truth["threads"]}
+    # the reads of intervals in which every worker cycled, after the first
+    # two (all new entries, then their second copies) and the one after
+    # them, whose read decides from theirs
+    busy = [i["health"]["thread_map"] for k, i in enumerate(intervals)
+            if k >= 3 and workers <= {t["tid"] for t in i["threads"]
+                                      if t["interval"]["cycles"]}]
+    assert len(busy) >= 3, [i["health"]["thread_map"] for i in intervals]
+    for m in busy:
+        assert m["whole"] and m["batch"] and m["copied"] >= n, busy
+    maps = [i["health"]["thread_map"] for i in intervals]
+    # a read reads every task or none, and every task only at the first two
+    # and at every THREAD_TASK_EVERY-th read
+    assert all(m["tasks"] in (0, m["entries"]) for m in maps), maps
+    assert maps[0]["tasks"] and maps[1]["tasks"], maps
+    assert sum(m["tasks"] > 0 for m in maps[2:]) <= -(-len(maps[2:]) // THREAD_TASK_EVERY), maps
+    got = threads_by_tid(summary)
+    for t in truth["threads"]:
+        assert got[t["tid"]]["total"]["cycles"] == t["cycles"], (got[t["tid"]]["total"], t)
+
+
 def test_injected_faults_reported_exactly(tmp_path):
     faults = ["-f", "overrun@100", "-f", "overrun/700,thread=1",
               "-f", "mmap/500,thread=1", "-f", "openat@300,thread=0",

@@ -750,6 +750,7 @@ static long take_recs(void *ctx, char *p, size_t len)
 		c->map_entries++;
 		/* records of 8-byte multiples from the buffer's front: aligned */
 		a = rec_attrs(&r, p + off);
+		c->map_tasks += a != NULL;
 		if (r.full) {
 			struct rtsup_thread *t = (void *)(p + off + thread_rec_len(&r) - sizeof(*t));
 
@@ -777,6 +778,7 @@ static long take_tasks(void *ctx, char *p, size_t len)
 
 	for (; rec_whole(p, off, len, &r); off += thread_rec_len(&r)) {
 		tm = model_get(&c->model, r.tid, false);
+		c->map_tasks += r.task == THREAD_TASK_ATTRS;
 		if (tm)
 			note_task(c, tm, &r, rec_attrs(&r, p + off));
 	}
@@ -892,21 +894,28 @@ static bool batch_read_cheaper(const struct collector *c)
 	return c->map_entries >= 256 && c->map_moved * 4 >= c->map_entries * 3;
 }
 
-/* read_whole - the whole thread map, through its iterator or batch_cap entries per syscall */
-static int read_whole(struct collector *c)
+/*
+ * read_whole - the whole thread map, through its iterator or batch_cap
+ * entries per syscall (batch: batch_read_cheaper, asked before the read's
+ * counts were reset)
+ */
+static int read_whole(struct collector *c, bool batch)
 {
 	int fd = bpf_map__fd(c->skel->maps.threads), err;
-	bool iter = threads_link(c) && !batch_read_cheaper(c);
 	__u64 in = 0, out = 0;
 	__u32 n, i;
 	bool first = true;
 
-	if (iter) {
+	c->map_batch = batch || !threads_link(c);
+	if (!c->map_batch) {
 		err = read_changed(c);
 		return err ?: take_kept(c);
 	}
-	/* the tasks' attributes first: no task iterator runs (a failure: asked per thread) */
-	if (c->tasks)
+	/*
+	 * the tasks' attributes first: no task iterator runs (a failure: asked
+	 * per thread), unless this read reads none (thread_read_tasks)
+	 */
+	if (c->tasks && c->tasks->bss->threads_read_tasks != THREAD_TASKS_NONE)
 		read_tasks(c);
 	if (c->no_batch)
 		return read_one_by_one(c, fd);
@@ -977,9 +986,12 @@ static int read_threads(struct collector *c)
 	bool named = c->moved.rb != NULL;
 	/* a tid the collector could not keep (out of memory) */
 	bool forced = named && movedset_begin(&c->moved, &c->skel->bss->threads_moved_seq);
+	/* the last read's counts decide, before they are reset */
+	bool batch = batch_read_cheaper(c);
 	int err;
 
-	c->map_entries = c->map_copied = c->map_moved = c->map_visited = 0;
+	c->map_entries = c->map_copied = c->map_moved = c->map_visited = c->map_tasks = 0;
+	c->map_batch = false;
 	/* a send the ring refused (full), a task that changed cgroups */
 	if (__atomic_exchange_n(&c->skel->bss->threads_moved_lost, 0, __ATOMIC_RELAXED) |
 	    __atomic_exchange_n(&c->skel->bss->threads_attrs_moved, 0, __ATOMIC_RELAXED))
@@ -987,8 +999,8 @@ static int read_threads(struct collector *c)
 	c->map_whole = thread_read_whole(named, c->sample_seq, forced,
 					 movedset_due(&c->moved), (__u32)c->model.n);
 	if (c->tasks)
-		c->tasks->bss->threads_read_all_tasks = named;
-	err = c->map_whole ? read_whole(c) : read_named(c);
+		c->tasks->bss->threads_read_tasks = thread_read_tasks(named, c->sample_seq, forced);
+	err = c->map_whole ? read_whole(c, batch) : read_named(c);
 	if (c->map_whole)
 		c->map_visited = c->map_entries;
 	if (named)

@@ -78,6 +78,8 @@ struct collector {
 	__u32 map_moved;		/* entries whose bytes changed since an earlier copy */
 	__u32 map_visited;		/* entries the last sample's read looked at */
 	bool map_whole;			/* ... all of them: it walked the map (threadread.h) */
+	bool map_batch;			/* ... in batches of entries, not through the iterator */
+	__u32 map_tasks;		/* tasks whose attributes the iterator read with it */
 	/* the entries the hooks named since the last read (threadread.h) */
 	struct movedset moved;
 	/* --stacks: the stack records, their own ring so events keep their order */

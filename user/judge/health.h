@@ -36,6 +36,8 @@ struct health {
 	__u32 thread_map_copied;	/* of its entries, copied out whole at the last read */
 	__u32 thread_map_visited;	/* ... looked at by the last read */
 	bool thread_map_whole;		/* ... which walked the whole map (threadread.h) */
+	bool thread_map_batch;		/* ... in batches, not through the iterator */
+	__u32 thread_map_tasks;		/* tasks the iterator read with it */
 	struct health_map can_id_map;	/* capacity 0 without --can */
 };
 

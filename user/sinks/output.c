@@ -441,7 +441,8 @@ static json_t *json_map_fill(const struct health_map *m)
 
 /*
  * json_thread_map - the thread map's fill, and how many entries the last
- * read looked at and copied, and whether it walked the whole map
+ * read looked at and copied, whether it walked the whole map (in batches
+ * or not) and how many tasks it read
  */
 static json_t *json_thread_map(const struct health *h)
 {
@@ -451,6 +452,8 @@ static json_t *json_thread_map(const struct health *h)
 		json_object_set_new(o, "copied", json_integer(h->thread_map_copied));
 		json_object_set_new(o, "visited", json_integer(h->thread_map_visited));
 		json_object_set_new(o, "whole", json_boolean(h->thread_map_whole));
+		json_object_set_new(o, "batch", json_boolean(h->thread_map_batch));
+		json_object_set_new(o, "tasks", json_integer(h->thread_map_tasks));
 	}
 	return o;
 }

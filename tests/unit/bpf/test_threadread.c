@@ -83,7 +83,7 @@ static void test_normalized_copies_equal(void **state)
 /* is the entry's task read at read seq? (as the iterator decides, before its copy) */
 static int task_due(const struct rtsup_thread *t, __u32 tid, __u32 seq)
 {
-	return thread_task_due(t->gen, t->read_seen, t->read_again, tid, seq, 0);
+	return thread_task_due(t->gen, t->read_seen, t->read_again, tid, seq, THREAD_TASKS_DUE);
 }
 
 /*
@@ -239,6 +239,41 @@ static void test_read_whole_when(void **state)
 	assert_false(thread_read_whole(1, 5, 0, 20, 11));
 }
 
+/*
+ * with the ring: the reads that must see every task read all of them, a
+ * walk only cheaper than the lookups none, whatever moved; without it the
+ * iterator picks (thread_task_due)
+ */
+static void test_read_tasks_which(void **state)
+{
+	struct rtsup_thread t;
+	__u64 seq;
+	int all = 0;
+
+	(void)state;
+	memset(&t, 0, sizeof(t));
+	assert_int_equal(thread_read_tasks(0, 5, 0), THREAD_TASKS_DUE);
+	assert_int_equal(thread_read_tasks(1, 1, 0), THREAD_TASKS_ALL);
+	assert_int_equal(thread_read_tasks(1, 2, 0), THREAD_TASKS_ALL);
+	assert_int_equal(thread_read_tasks(1, 5, 1), THREAD_TASKS_ALL);	/* forced */
+	for (seq = 3; seq < 3 + 10 * THREAD_TASK_EVERY; seq++) {
+		__u32 which = thread_read_tasks(1, seq, 0);
+
+		all += which == THREAD_TASKS_ALL;
+		/* the mode decides, not the entry: this one is new (never copied) */
+		assert_int_equal(thread_task_due(t.gen, t.read_seen, t.read_again, 7, (__u32)seq,
+						 which), which == THREAD_TASKS_ALL);
+		/* every all-read is a whole read */
+		if (which == THREAD_TASKS_ALL)
+			assert_true(thread_read_whole(1, seq, 0, 0, 1000));
+	}
+	assert_int_equal(all, 10);
+	/* a parked entry read by the spread (tid + seq) is not read at a walk for cost */
+	t.read_seen = t.gen + 1;
+	assert_true(thread_task_due(t.gen, t.read_seen, 0, 0, 8, THREAD_TASKS_DUE));
+	assert_false(thread_task_due(t.gen, t.read_seen, 0, 0, 8, THREAD_TASKS_NONE));
+}
+
 /* a target's switch-out: a change of what the collector reads of its task counts */
 static void test_sched_seen_counts_changes(void **state)
 {
@@ -285,6 +320,7 @@ int main(void)
 		cmocka_unit_test(test_rec_len),
 		cmocka_unit_test(test_moved_named_once_a_read),
 		cmocka_unit_test(test_read_whole_when),
+		cmocka_unit_test(test_read_tasks_which),
 		cmocka_unit_test(test_sched_seen_counts_changes),
 		cmocka_unit_test(test_moved_ring_bytes),
 	};
