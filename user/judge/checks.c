@@ -243,13 +243,19 @@ static void check_sched(const struct check_in *in, struct status *s)
 		status_add(s, LEVEL_WARN, "priority %d, expected %d", in->prio, r->prio);
 }
 
+unsigned check_shown_key(bool judged, bool kthread, bool alive)
+{
+	/* what the branch of check_thread below reads: nothing else */
+	return judged ? 0 : 1u | (unsigned)(kthread && alive) << 1;
+}
+
 void check_thread(const struct check_in *in, struct status *out)
 {
 	__u64 period = check_period(in);
 
 	status_reset(out);
 	/* threads that are neither a program's RT thread nor named by a rule are only shown */
-	if (!in->judged) {
+	if (!in->judged) {	/* only what check_shown_key keys */
 		status_check(out, "not_judged");
 		if (in->kthread && in->alive)
 			status_add(out, LEVEL_OK, "kernel thread: judged when a rule names it");

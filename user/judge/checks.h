@@ -60,6 +60,14 @@ struct check_in {
 __u64 check_period(const struct check_in *in);
 /* check_thread - run every check of a thread into 'out' (reset first) */
 void check_thread(const struct check_in *in, struct status *out);
+/*
+ * check_shown_key - all check_thread reads of a thread it does not judge
+ * (judged false): two such inputs of the same key give the same status, so
+ * the supervisor keeps the last one (900 parked threads of a robot's
+ * programs, checked again every interval). 0 for a judged thread: every
+ * check runs.
+ */
+unsigned check_shown_key(bool judged, bool kthread, bool alive);
 
 /* What the supervisor knows about itself. */
 struct self_in {

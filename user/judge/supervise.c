@@ -188,6 +188,7 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 {
 	struct status st, old;
 	char names[256];
+	unsigned key;
 	int i;
 
 	for (i = 0; i < m->n; i++) {
@@ -204,11 +205,6 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 		r = supervise_rule(s, tm);
 		if (r->th.lifetime)
 			model_life_settle(tm);	/* the totals' percentiles checked too */
-		unsafe_names(tm, names, sizeof(names));
-		memset(&in, 0, sizeof(in));
-		in.win = &tm->win;
-		in.life = &tm->life;
-		in.rule = r;
 		/*
 		 * RT threads of programs and threads a rule names are held to the
 		 * cycle checks; kernel threads (--rt finds watchdogd, irq/N-...)
@@ -216,6 +212,19 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 		 */
 		if (tm->policy == 1 || tm->policy == 2 || tm->policy == 6)
 			tm->was_rt = true;
+		in.judged = tm->rule >= 0 || (tm->was_rt && !tm->kthread);
+		/* only shown, and shown as last time: its status is the same */
+		key = check_shown_key(in.judged, tm->kthread, tm->alive);
+		if (key && key == tm->shown_key) {
+			tm->level_changed = false;
+			continue;
+		}
+		tm->shown_key = key;
+		unsafe_names(tm, names, sizeof(names));
+		memset(&in, 0, sizeof(in));
+		in.win = &tm->win;
+		in.life = &tm->life;
+		in.rule = r;
 		in.judged = tm->rule >= 0 || (tm->was_rt && !tm->kthread);
 		in.expect_run = tm->rule >= 0;
 		in.kthread = tm->kthread;

@@ -106,6 +106,7 @@ struct thread_model {
 	bool was_rt;			/* it ran with an RT policy at some point */
 	bool kthread;			/* a kernel thread (PF_KTHREAD) */
 	bool level_changed;		/* st's level is not the interval before's */
+	unsigned shown_key;		/* check_shown_key of st, 0: none (supervise.c) */
 	enum level worst;		/* worst level ever reached */
 	__u64 dead_seq;			/* order of death, set by model_prune_dead */
 	bool win_idle;		/* win is empty (model_idle), as is life_hist's interval */

@@ -273,6 +273,51 @@ static void test_checks_kthread_unnamed_not_judged(void **state)
 	expect_one(LEVEL_OK, "kernel thread: judged when a rule names it");
 }
 
+/*
+ * an unjudged thread's status is a function of check_shown_key alone: the
+ * supervisor keeps it while the key stays. Every input check_thread reads
+ * is varied; two statuses of the same key are the same.
+ */
+static void test_checks_shown_key_is_all_it_reads(void **state)
+{
+	struct status first[4];
+	bool have[4] = { false };
+	int v;
+
+	(void)state;
+	assert_int_equal(check_shown_key(true, false, true), 0);
+	assert_int_equal(check_shown_key(true, true, true), 0);
+	for (v = 0; v < 256; v++) {
+		unsigned key;
+
+		setup(NULL);
+		IN.judged = false;
+		IN.kthread = v & 1;
+		IN.alive = v & 2;
+		IN.left_rt = v & 4;
+		IN.policy = v & 8 ? 1 : 0;
+		IN.last_cycle_ns = v & 16 ? 0 : IN.now_ns - 10 * SEC;
+		IN.exit_code = v & 32 ? 9 : 0;
+		IN.process_ended = v & 32;
+		W.misses = v & 64 ? 500 : 0;
+		R.th.lifetime = v & 128;
+		IN.win = v & 64 ? &W : NULL;
+		key = check_shown_key(IN.judged, IN.kthread, IN.alive);
+		assert_true(key >= 1 && key < 4);
+		run();
+		if (!have[key]) {
+			status_copy(&first[key], &S);
+			have[key] = true;
+		}
+		assert_true(status_same(&first[key], &S));
+		assert_int_equal(first[key].level, S.level);
+	}
+	/* a kernel thread alive says so; the others say nothing */
+	assert_true(have[1] && have[3] && !have[2]);
+	assert_int_equal(first[3].nmsg, 1);
+	assert_int_equal(first[1].nmsg, 0);
+}
+
 /* a kernel thread a rule names is judged like any other thread */
 static void test_checks_kthread_named_judged(void **state)
 {
@@ -1235,6 +1280,7 @@ int main(void)
 		C(test_checks_init_unnamed_is_idle),
 		C(test_checks_init_unnamed_before_timeout),
 		C(test_checks_kthread_unnamed_not_judged),
+		C(test_checks_shown_key_is_all_it_reads),
 		C(test_checks_kthread_named_judged),
 		C(test_checks_init_first_seen_after_now),
 		C(test_checks_starve_last_cycle_after_now),
