@@ -4,7 +4,7 @@
 #include <string.h>
 #include "sinks/textbuf.h"
 
-bool textbuf_room(struct textbuf *b, size_t n)
+bool textbuf_grow(struct textbuf *b, size_t n)
 {
 	size_t cap;
 	char *p;
@@ -26,23 +26,29 @@ bool textbuf_room(struct textbuf *b, size_t n)
 	return true;
 }
 
-void textbuf_put(struct textbuf *b, const char *s, size_t n)
-{
-	if (!textbuf_room(b, n))
-		return;
-	memcpy(b->p + b->len, s, n);
-	b->len += n;
-}
-
 void textbuf_u64(struct textbuf *b, unsigned long long v)
 {
+	/* two digits a division: half the divisions of one at a time */
+	static const char pairs[] = "00010203040506070809101112131415161718192021222324"
+				    "25262728293031323334353637383940414243444546474849"
+				    "50515253545556575859606162636465666768697071727374"
+				    "75767778798081828384858687888990919293949596979899";
 	char d[24];
 	int i = sizeof(d);
 
-	do {
-		d[--i] = (char)('0' + v % 10);
-		v /= 10;
-	} while (v);
+	while (v >= 100) {
+		unsigned r = (unsigned)(v % 100);
+
+		v /= 100;
+		d[--i] = pairs[2 * r + 1];
+		d[--i] = pairs[2 * r];
+	}
+	if (v >= 10) {
+		d[--i] = pairs[2 * v + 1];
+		d[--i] = pairs[2 * v];
+	} else {
+		d[--i] = (char)('0' + v);
+	}
 	textbuf_put(b, d + i, sizeof(d) - i);
 }
 

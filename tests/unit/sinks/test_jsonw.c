@@ -173,6 +173,30 @@ static void test_jsonw_fixed_exact(void **state)
 	assert_string_equal(text(), "7.0");
 }
 
+/* integers of every length, and at each power of ten and one below, as printf writes them */
+static void test_jsonw_integers_every_length(void **state)
+{
+	unsigned long long p = 1;
+	char want[32];
+	int k, d;
+
+	(void)state;
+	for (k = 0; k <= 19; k++, p *= 10) {
+		for (d = -1; d <= 1; d++) {
+			long long v = (long long)(p + (unsigned long long)d);
+
+			jw_reset(&w);
+			jw_int(&w, NULL, v);
+			snprintf(want, sizeof(want), "%lld", v);
+			assert_string_equal(text(), want);
+			jw_reset(&w);
+			jw_int(&w, NULL, -v);
+			snprintf(want, sizeof(want), "%lld", -v);
+			assert_string_equal(text(), want);
+		}
+	}
+}
+
 /* a value bigger than the first buffer grows it; the buffer is kept across resets */
 static void test_jsonw_grows(void **state)
 {
@@ -197,6 +221,7 @@ int main(void)
 		cmocka_unit_test(test_jsonw_integers_and_nesting),
 		cmocka_unit_test(test_jsonw_ns_reads_back),
 		cmocka_unit_test(test_jsonw_fixed_exact),
+		cmocka_unit_test(test_jsonw_integers_every_length),
 		cmocka_unit_test(test_jsonw_grows),
 	};
 	int r = cmocka_run_group_tests_name("jsonw", tests, NULL, NULL);
