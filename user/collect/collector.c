@@ -635,13 +635,16 @@ static void take_rest(struct collector *c, struct thread_model *tm, __u32 tid,
 	char comm[RTSUP_COMM_LEN];
 
 	note_task(c, tm, r, a);
-	tm->tgid = t->tgid;
-	memcpy(comm, t->comm, RTSUP_COMM_LEN);
-	comm[RTSUP_COMM_LEN - 1] = '\0';
-	comm_sanitize(comm, RTSUP_COMM_LEN);
-	if (strcmp(comm, tm->comm)) {
-		memcpy(tm->comm, comm, RTSUP_COMM_LEN);
-		rematch(tm);
+	/* the snapshot the model holds (take_unchanged): its names were taken from it */
+	if (t != &tm->cur) {
+		tm->tgid = t->tgid;
+		memcpy(comm, t->comm, RTSUP_COMM_LEN);
+		comm[RTSUP_COMM_LEN - 1] = '\0';
+		comm_sanitize(comm, RTSUP_COMM_LEN);
+		if (strcmp(comm, tm->comm)) {
+			memcpy(tm->comm, comm, RTSUP_COMM_LEN);
+			rematch(tm);
+		}
 	}
 	tm->seen = true;
 	tm->alive = !thread_dead(false, true, t->exited) &&
