@@ -1169,11 +1169,34 @@ static void tid_release(struct collector *c, __u32 tid)
 		tid_bit_set(c->skel->bss->wakemask, tid);
 }
 
+/*
+ * untracked_ever - a thread was ever untracked (the map full): the count
+ * moves with every entry written to 'untracked' (kernel and start-up scan),
+ * so without one that map is empty and its walk is skipped (a batch read
+ * walks all of its 16384 buckets: a tenth of a small run's loop)
+ */
+static bool untracked_ever(const struct collector *c)
+{
+	return c->counters[RTSUP_C_MAP_FULL] != 0;
+}
+
+/*
+ * processes_due - are the target processes checked for being gone? When a
+ * thread was let go this sample (a process ends with its threads, and each
+ * tracked thread's end is reported), when a thread was untracked (its
+ * end is not), and every THREAD_TASK_EVERY-th sample as a net: a pid is
+ * reused after the kernel went through every other one.
+ */
+static bool processes_due(const struct collector *c, int ndead)
+{
+	return ndead || untracked_ever(c) || c->sample_seq % THREAD_TASK_EVERY == 0;
+}
+
 void collector_reap(struct collector *c)
 {
 	int fd = bpf_map__fd(c->skel->maps.threads);
 	__u32 *dead = malloc((c->model.n ? c->model.n : 1) * sizeof(*dead));
-	int i, j, ndead = 0;
+	int i, j, ndead = 0, nlet = 0;
 
 	for (i = 0; i < c->model.n; i++) {
 		struct thread_model *tm = c->model.t[i];
@@ -1187,6 +1210,7 @@ void collector_reap(struct collector *c)
 		 * numbers; so is a thread that left RT under --rt (rtfollow.h)
 		 */
 		tm->reported_exit = true;
+		nlet++;
 		if (!same_thread(c, fd, tm))
 			continue;	/* a new thread has the tid already (add_thread) */
 		bpf_map_delete_elem(fd, &tm->tid);
@@ -1207,8 +1231,11 @@ void collector_reap(struct collector *c)
 	free(dead);
 	model_prune_dead(&c->model, MODEL_KEEP_DEAD);
 	/* threads not tracked that are gone: their tid may come back */
-	map_prune(bpf_map__fd(c->skel->maps.untracked), sizeof(__u32), sizeof(__u32),
-		  untracked_gone, NULL);
+	if (untracked_ever(c))
+		map_prune(bpf_map__fd(c->skel->maps.untracked), sizeof(__u32), sizeof(__u32),
+			  untracked_gone, NULL);
+	if (!processes_due(c, nlet))
+		return;
 	/* processes that are gone must not match a reused pid */
 	map_prune(bpf_map__fd(c->skel->maps.tgids), sizeof(__u32), sizeof(__u32), process_gone,
 		  NULL);
