@@ -189,6 +189,7 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 	struct status st, old;
 	char names[256];
 	unsigned key;
+	bool judged;
 	int i;
 
 	for (i = 0; i < m->n; i++) {
@@ -212,9 +213,9 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 		 */
 		if (tm->policy == 1 || tm->policy == 2 || tm->policy == 6)
 			tm->was_rt = true;
-		in.judged = tm->rule >= 0 || (tm->was_rt && !tm->kthread);
+		judged = tm->rule >= 0 || (tm->was_rt && !tm->kthread);
 		/* only shown, and shown as last time: its status is the same */
-		key = check_shown_key(in.judged, tm->kthread, tm->alive);
+		key = check_shown_key(judged, tm->kthread, tm->alive);
 		if (key && key == tm->shown_key) {
 			tm->level_changed = false;
 			continue;
@@ -225,7 +226,7 @@ void supervise_interval(struct supervisor *s, struct model *m, __u32 bank,
 		in.win = &tm->win;
 		in.life = &tm->life;
 		in.rule = r;
-		in.judged = tm->rule >= 0 || (tm->was_rt && !tm->kthread);
+		in.judged = judged;
 		in.expect_run = tm->rule >= 0;
 		in.kthread = tm->kthread;
 		in.alive = tm->alive;
