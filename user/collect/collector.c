@@ -775,15 +775,17 @@ static long take_recs(void *ctx, char *p, size_t len)
 static long take_tasks(void *ctx, char *p, size_t len)
 {
 	struct collector *c = ctx;
+	const struct rtsup_task_attrs *a;
 	struct rtsup_thread_rec r;
 	struct thread_model *tm;
 	size_t off = 0;
 
 	for (; rec_whole(p, off, len, &r); off += thread_rec_len(&r)) {
 		tm = model_get(&c->model, r.tid, false);
-		c->map_tasks += r.task == THREAD_TASK_ATTRS;
+		a = rec_attrs(&r, p + off);
+		c->map_tasks += a != NULL;
 		if (tm)
-			note_task(c, tm, &r, rec_attrs(&r, p + off));
+			note_task(c, tm, &r, a);
 	}
 	return (long)off;
 }
@@ -1187,9 +1189,9 @@ static bool untracked_ever(const struct collector *c)
  * end is not), and every THREAD_TASK_EVERY-th sample as a net: a pid is
  * reused after the kernel went through every other one.
  */
-static bool processes_due(const struct collector *c, int ndead)
+static bool processes_due(const struct collector *c, int nlet)
 {
-	return ndead || untracked_ever(c) || c->sample_seq % THREAD_TASK_EVERY == 0;
+	return nlet || untracked_ever(c) || c->sample_seq % THREAD_TASK_EVERY == 0;
 }
 
 void collector_reap(struct collector *c)
