@@ -85,13 +85,12 @@ static void watch_clock(struct collector *c)
 /* clock_stepped - the wall clock was stepped: new offsets to the kernel side now */
 static void clock_stepped(struct collector *c)
 {
-	__s64 before = c->real_off;
-
 	update_clocks(c);
 	c->clock_steps++;
 	fprintf(stderr, "rtsup-trace: the wall clock was stepped by %+.6f s; "
 		"absolute sleeps on it are judged with its new time\n",
-		(c->real_off - before) / 1e9);
+		(c->real_off - c->real_off_said) / 1e9);
+	c->real_off_said = c->real_off;
 }
 
 /*
@@ -288,6 +287,7 @@ int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct opt
 		return -1;
 	}
 	update_clocks(c);
+	c->real_off_said = c->real_off;
 	c->rb = ring_buffer__new(bpf_map__fd(skel->maps.events), on_event, c, NULL);
 	if (!c->rb || (skel->rodata->cfg_record &&
 		       ring_buffer__add(c->rb, bpf_map__fd(skel->maps.cycles), on_cycle_rec, c))) {

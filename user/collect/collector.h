@@ -59,6 +59,11 @@ struct collector {
 	__u64 poll_until;		/* the running poll stops consuming here (ns) */
 	__u64 polled;			/* records consumed, to read the clock once in 64 */
 	__s64 real_off;			/* CLOCK_REALTIME - CLOCK_MONOTONIC, ns */
+	/*
+	 * real_off when the last step was told: a sample between the step and
+	 * its clockwatch wakeup has already written the new offset to real_off
+	 */
+	__s64 real_off_said;
 	/* live only (rb): a wall clock step updates the offsets at once (clockwatch.h) */
 	int clock_fd;			/* -1: not watched, offsets each interval only */
 	int epfd;			/* the ring buffer's epoll fd and clock_fd */
