@@ -627,6 +627,12 @@ static bool listed(const struct collector *c, const struct thread_model *tm)
 	return sample_attrs(c, tm) != NULL;
 }
 
+/* seen_now - this sample's read of the thread map found tm's entry */
+static bool seen_now(const struct collector *c, const struct thread_model *tm)
+{
+	return tm->seen_seq == c->sample_seq;
+}
+
 /* take_rest - after the model took t, the rest of the thread: names, life, attributes */
 static void take_rest(struct collector *c, struct thread_model *tm, __u32 tid,
 		      const struct rtsup_thread *t, const struct rtsup_thread_rec *r,
@@ -646,7 +652,7 @@ static void take_rest(struct collector *c, struct thread_model *tm, __u32 tid,
 			rematch(tm);
 		}
 	}
-	tm->seen = true;
+	tm->seen_seq = c->sample_seq;
 	tm->alive = !thread_dead(false, true, t->exited) &&
 		    !(idle_in_window(tm) && !listed(c, tm) && thread_gone(t->tgid, tid));
 	if (tm->alive)
@@ -748,7 +754,7 @@ static long take_recs(void *ctx, char *p, size_t len)
 
 	for (; rec_whole(p, off, len, &r); off += thread_rec_len(&r)) {
 		tm = model_get(&c->model, r.tid, false);
-		if (tm && tm->seen)
+		if (tm && seen_now(c, tm))
 			continue;
 		c->map_entries++;
 		/* records of 8-byte multiples from the buffer's front: aligned */
@@ -835,7 +841,7 @@ static int take_kept(struct collector *c)
 
 	for (i = 0; i < c->model.n; i++) {
 		tm = c->model.t[i];
-		if (tm->seen || tm->reported_exit)
+		if (seen_now(c, tm) || tm->reported_exit)
 			continue;
 		c->map_entries++;
 		err = take_unchanged(c, tm, tm->tid, NULL, NULL);
@@ -968,7 +974,7 @@ static int read_named(struct collector *c)
 		for (i = 0; i < l[k]->n; i++) {
 			tid = l[k]->tid[i];
 			tm = model_get(&c->model, tid, false);
-			if (tm && tm->seen)
+			if (tm && seen_now(c, tm))
 				continue;
 			c->map_visited++;
 			if (bpf_map_lookup_elem(fd, &tid, c->batch_vals))
@@ -1015,9 +1021,9 @@ static int read_threads(struct collector *c)
 
 /*
  * An interval, as collector_sample reads it: epoch_flip ends it in the
- * kernel (rtsup.h, "Interval windows"); every thread is marked unseen
- * (mark_unseen), the thread map read marks those it finds (take: the
- * snapshot difference, and alive from the entry), and those it did not
+ * kernel (rtsup.h, "Interval windows"); the thread map read marks those
+ * it finds with the sample (seen_seq; take: the snapshot difference, and
+ * alive from the entry), and those it did not
  * find get an empty interval and are dead only after a complete read
  * (mark_absent).
  */
@@ -1036,26 +1042,18 @@ static void epoch_flip(struct collector *c)
 	c->skel->bss->epoch++;
 }
 
-/* mark_unseen - before the read: no thread read yet */
-static void mark_unseen(struct model *m)
-{
-	int i;
-
-	for (i = 0; i < m->n; i++)
-		m->t[i]->seen = false;
-}
-
 /*
  * mark_absent - after the read: a thread not in the map any more had an
  * empty interval (one read sets the interval of each it found), and is
  * dead only if the whole map was read
  */
-static void mark_absent(struct model *m, bool read_complete)
+static void mark_absent(struct collector *c, bool read_complete)
 {
+	struct model *m = &c->model;
 	int i;
 
 	for (i = 0; i < m->n; i++) {
-		if (m->t[i]->seen)
+		if (seen_now(c, m->t[i]))
 			continue;
 		model_idle(m->t[i]);
 		if (thread_dead(read_complete, false, false))
@@ -1077,7 +1075,6 @@ int collector_sample(struct collector *c)
 	eventlog_finish(&c->events);
 	causes_sort(&c->causes_win);
 	causes_sort(&c->causes_life);
-	mark_unseen(&c->model);
 	/* every target's attributes in one read; without it, asked thread by thread */
 	if (c->skel->links.attrs_task &&
 	    task_attrs_read(&c->attrs, bpf_link__fd(c->skel->links.attrs_task)))
@@ -1089,7 +1086,7 @@ int collector_sample(struct collector *c)
 	if (err)
 		fprintf(stderr, "rtsup-trace: reading the thread map: %s\n", strerror(-err));
 	model_sort(&c->model);	/* the reports list threads by tid */
-	mark_absent(&c->model, !err);
+	mark_absent(c, !err);
 	read_unsafe_sys(c);
 	read_counters(c);
 	read_stack_counters(c);

@@ -82,7 +82,7 @@ struct thread_model {
 	char cpus[64];		/* allowed CPUs as a list, e.g. "0-3" */
 	bool alive;
 	bool reported_exit;
-	bool seen;		/* its entry was in the last read of the thread map */
+	__u64 seen_seq;		/* the sample whose read of the thread map found it last */
 	/*
 	 * Every interval reads or writes these of every thread, a parked one
 	 * too: together in the first cache lines, not one line each across
