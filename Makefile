@@ -218,7 +218,7 @@ CONFIG_SRCS := user/config/config.c user/config/yamlwalk.c user/config/values.c 
 	user/config/canconfig.c user/config/print.c user/config/stackopt.c
 UNIT_DEPS_test_model  := user/model/model.c
 UNIT_DEPS_test_eventlog := user/model/eventlog.c
-UNIT_DEPS_test_causes := user/model/causes.c user/model/syscalls.c
+UNIT_DEPS_test_causes := user/model/causes.c user/model/syscalls.c user/model/model.c
 UNIT_DEPS_test_histdraw := user/sinks/histdraw.c
 UNIT_DEPS_test_rowcut := user/sinks/rowcut.c
 UNIT_DEPS_test_jsonw := user/sinks/jsonw.c user/sinks/jsonstr.c user/sinks/textbuf.c
@@ -231,7 +231,7 @@ UNIT_LIBS_test_config := -lyaml
 UNIT_DEPS_test_record := user/sinks/record.c user/sinks/jsonstr.c user/sinks/errline.c
 UNIT_LIBS_test_record := -lz -ljansson
 UNIT_DEPS_test_perfetto := user/sinks/perfetto.c user/sinks/jsonstr.c user/sinks/errline.c \
-	user/model/causes.c user/model/syscalls.c
+	user/model/causes.c user/model/syscalls.c user/model/model.c
 UNIT_LIBS_test_perfetto := -ljansson
 UNIT_DEPS_test_checks := user/judge/checks.c user/model/model.c user/judge/status.c
 UNIT_DEPS_test_supervise := user/judge/supervise.c user/judge/checks.c user/model/model.c \

@@ -65,16 +65,81 @@ static int same_group(const struct cause_group *g, __u32 tid, const struct rtsup
 	       (c->kind != RTSUP_CAUSE_BACKLOG || g->after == c->after);
 }
 
-void causes_add(struct causes *cs, __u32 tid, const struct rtsup_cause *c)
+/* group_hash - the slot a group of thread tid with cause kind, culprit and after starts at */
+static size_t group_hash(__u32 tid, __u32 kind, __u32 who, __u32 after, size_t cap)
 {
-	struct cause_group *g = NULL;
+	__u64 h = ((__u64)tid * 0x9e3779b97f4a7c15ULL) ^ ((__u64)who * 0xc2b2ae3d27d4eb4fULL) ^
+		  ((__u64)(kind << 8 | after) * 0x165667b19e3779f9ULL);
+
+	return (size_t)(h ^ h >> 29) & (cap - 1);
+}
+
+static size_t slot_of(const struct causes *cs, const struct cause_group *g)
+{
+	return group_hash(g->tid, g->kind, g->who.tid, g->after, cs->index_cap);
+}
+
+/* index_put - group i into the index (it has room: causes_index_due) */
+static void index_put(struct causes *cs, size_t i)
+{
+	size_t k = slot_of(cs, &cs->g[i]);
+
+	while (cs->index[k])
+		k = (k + 1) & (cs->index_cap - 1);
+	cs->index[k] = (__u32)i + 1;
+}
+
+/*
+ * index_rebuild - every group into an index of cap slots: it grew, or the
+ * groups moved (causes_sort). -1 without memory: the index is dropped and
+ * causes_add walks the groups, as it did before it had one.
+ */
+static int index_rebuild(struct causes *cs, size_t cap)
+{
 	size_t i;
 
-	for (i = 0; i < cs->n; i++)
-		if (same_group(&cs->g[i], tid, c)) {
-			g = &cs->g[i];
-			break;
+	if (cap != cs->index_cap) {
+		__u32 *x = realloc(cs->index, cap * sizeof(*x));
+
+		if (!x) {
+			free(cs->index);
+			cs->index = NULL;
+			cs->index_cap = 0;
+			return -1;
 		}
+		cs->index = x;
+		cs->index_cap = cap;
+	}
+	memset(cs->index, 0, cap * sizeof(*cs->index));
+	for (i = 0; i < cs->n; i++)
+		index_put(cs, i);
+	return 0;
+}
+
+/* find_group - the group of thread tid that miss c belongs to, NULL if none yet */
+static struct cause_group *find_group(const struct causes *cs, __u32 tid,
+				      const struct rtsup_cause *c)
+{
+	__u32 after = c->kind == RTSUP_CAUSE_BACKLOG ? c->after : 0;
+	size_t i, k;
+
+	if (!cs->index) {
+		for (i = 0; i < cs->n; i++)
+			if (same_group(&cs->g[i], tid, c))
+				return &cs->g[i];
+		return NULL;
+	}
+	for (k = group_hash(tid, c->kind, c->who.tid, after, cs->index_cap); cs->index[k];
+	     k = (k + 1) & (cs->index_cap - 1))
+		if (same_group(&cs->g[cs->index[k] - 1], tid, c))
+			return &cs->g[cs->index[k] - 1];
+	return NULL;
+}
+
+void causes_add(struct causes *cs, __u32 tid, const struct rtsup_cause *c)
+{
+	struct cause_group *g = find_group(cs, tid, c);
+
 	if (!g) {
 		if (cs->n == cs->cap) {
 			size_t cap = cs->cap ? cs->cap * 2 : 16;
@@ -94,6 +159,15 @@ void causes_add(struct causes *cs, __u32 tid, const struct rtsup_cause *c)
 		g->after = c->kind == RTSUP_CAUSE_BACKLOG ? c->after : 0;
 		g->who = c->who;
 		g->who.comm[RTSUP_COMM_LEN - 1] = '\0';
+		if (causes_index_due(cs->index_cap, cs->n)) {
+			size_t cap = cs->index_cap ? cs->index_cap : 16;
+
+			while (causes_index_due(cap, cs->n))
+				cap *= 2;
+			index_rebuild(cs, cap);
+		} else if (cs->index) {
+			index_put(cs, cs->n - 1);
+		}
 	}
 	g->flags |= c->flags;
 	g->count++;
@@ -115,20 +189,29 @@ static int cmp_group(const void *a, const void *b)
 
 void causes_sort(struct causes *cs)
 {
-	if (cs->n)
-		qsort(cs->g, cs->n, sizeof(*cs->g), cmp_group);
+	if (!cs->n)
+		return;
+	qsort(cs->g, cs->n, sizeof(*cs->g), cmp_group);
+	if (cs->index)	/* the groups moved */
+		index_rebuild(cs, cs->index_cap);
 }
 
 const struct cause_group *causes_of(const struct causes *cs, __u32 tid, size_t *n)
 {
-	size_t i, j;
+	size_t lo = 0, hi = cs->n, j;
 
-	for (i = 0; i < cs->n && cs->g[i].tid != tid; i++)
+	while (lo < hi) {	/* the first group of tid or after it */
+		size_t mid = lo + (hi - lo) / 2;
+
+		if (cs->g[mid].tid < tid)
+			lo = mid + 1;
+		else
+			hi = mid;
+	}
+	for (j = lo; j < cs->n && cs->g[j].tid == tid; j++)
 		;
-	for (j = i; j < cs->n && cs->g[j].tid == tid; j++)
-		;
-	*n = j - i;
-	return *n ? &cs->g[i] : NULL;
+	*n = j - lo;
+	return *n ? &cs->g[lo] : NULL;
 }
 
 /* policy_short - a scheduling policy as in "FIFO/99" */
@@ -332,32 +415,45 @@ static void top_culprit(char *buf, size_t len, const struct cause_group *g, size
 	causes_brief(buf, len, &top);
 }
 
+/* why_each - each thread's top group of cs into its interval's text, or its lifetime's */
+static void why_each(const struct causes *cs, struct model *m, bool life)
+{
+	struct thread_model *tm;
+	size_t i, j;
+
+	for (i = 0; i < cs->n; i = j) {
+		for (j = i; j < cs->n && cs->g[j].tid == cs->g[i].tid; j++)
+			;
+		tm = model_get(m, cs->g[i].tid, false);
+		if (tm && life)
+			top_culprit(tm->why_life, sizeof(tm->why_life), &cs->g[i], j - i);
+		else if (tm)
+			top_culprit(tm->why_win, sizeof(tm->why_win), &cs->g[i], j - i);
+	}
+}
+
 void causes_to_model(const struct causes *win, const struct causes *life, struct model *m)
 {
-	const struct cause_group *g;
-	size_t n;
 	int i;
 
-	for (i = 0; i < m->n; i++) {
-		struct thread_model *tm = m->t[i];
-
-		tm->why_win[0] = tm->why_life[0] = '\0';
-		if ((g = causes_of(win, tm->tid, &n)))
-			top_culprit(tm->why_win, sizeof(tm->why_win), g, n);
-		if ((g = causes_of(life, tm->tid, &n)))
-			top_culprit(tm->why_life, sizeof(tm->why_life), g, n);
-	}
+	for (i = 0; i < m->n; i++)
+		m->t[i]->why_win[0] = m->t[i]->why_life[0] = '\0';
+	why_each(win, m, false);
+	why_each(life, m, true);
 }
 
 void causes_clear(struct causes *cs)
 {
 	cs->n = 0;
 	cs->dropped = 0;
+	if (cs->index)
+		memset(cs->index, 0, cs->index_cap * sizeof(*cs->index));
 }
 
 void causes_free(struct causes *cs)
 {
 	free(cs->g);
+	free(cs->index);
 	memset(cs, 0, sizeof(*cs));
 }
 

@@ -24,9 +24,17 @@ struct cause_group {
 	__u64 max_ns;
 };
 
+/*
+ * The run's table holds a group per thread and culprit: thousands on a
+ * noisy robot with many threads. A miss finds its group through 'index'
+ * (open addressing on the thread, kind and culprit; positions in g, + 1),
+ * not a walk of them all; causes_of searches the sorted table.
+ */
 struct causes {
 	struct cause_group *g;
 	size_t n, cap;
+	__u32 *index;		/* 0: empty; else a position in g + 1 */
+	size_t index_cap;	/* a power of 2, at least twice n (causes_index_due) */
 	__u64 dropped;		/* misses not grouped for want of memory */
 };
 
@@ -44,18 +52,28 @@ const char *mig_why_name(__u32 why);
  * arg2, 0 outside any or unknown); NULL when none
  */
 const char *unsafe_event_syscall(const struct rtsup_event *e);
+/* causes_index_due - the index must grow (or be made) to hold n groups */
+static inline int causes_index_due(size_t index_cap, size_t n)
+{
+	return index_cap < 2 * n || index_cap < 16;
+}
 /* causes_add - one miss of thread tid with its cause */
 void causes_add(struct causes *cs, __u32 tid, const struct rtsup_cause *c);
 /* causes_sort - by thread, then longest total first */
 void causes_sort(struct causes *cs);
-/* causes_of - the first group of thread tid after causes_sort, NULL if none; *n of them */
+/*
+ * causes_of - the first group of thread tid after causes_sort (a binary
+ * search), NULL if none; *n of them
+ */
 const struct cause_group *causes_of(const struct causes *cs, __u32 tid, size_t *n);
 /* causes_text - one readable cause: "waited 3.1 ms behind noise-hog[812] FIFO/99" */
 void causes_text(char *buf, size_t len, __u32 kind, __u32 flags, __u64 ns,
 		 const struct rtsup_who *who, const struct rtsup_cause *detail, __u32 self);
 /*
  * causes_to_model - each thread's top cause (longest total) as a short text
- * for the checks: "28 caused by why-hog[667] FIFO/60 (wait, 3.1 ms max)"
+ * for the checks: "28 caused by why-hog[667] FIFO/60 (wait, 3.1 ms max)";
+ * after causes_sort. Walks the groups and finds their threads, not the
+ * other way round (a thousand threads times the run's groups, each interval).
  */
 void causes_to_model(const struct causes *win, const struct causes *life, struct model *m);
 void causes_clear(struct causes *cs);

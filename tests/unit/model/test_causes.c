@@ -97,6 +97,59 @@ static void test_causes_text(void **state)
 	assert_string_equal(cause_kind_name(RTSUP_CAUSE_STEAL), "steal");
 }
 
+/*
+ * a run's table of thousands of groups (2000 threads, 5 culprits each):
+ * every miss finds its group through the index, before and after a sort
+ * moved the groups, and causes_of finds each thread's by its search; the
+ * counts are what the misses were (no group twice, none lost)
+ */
+static void test_causes_many_groups_indexed(void **state)
+{
+	enum { THREADS = 2000, CULPRITS = 5, ROUNDS = 3 };
+	struct causes cs = { 0 };
+	const struct cause_group *g;
+	__u32 tid, who, r;
+	size_t n, k;
+
+	for (r = 0; r < ROUNDS; r++) {
+		for (k = 0; k < THREADS * CULPRITS; k++) {
+			/* a stride coprime with the count: every pair once a round, shuffled */
+			size_t x = (k * 7919) % (THREADS * CULPRITS);
+			struct rtsup_cause c = cause(RTSUP_CAUSE_PREEMPT, 0, "hog", (x % 97 + 1) * MS);
+
+			tid = 1000 + (__u32)(x / CULPRITS);
+			who = 50 + (__u32)(x % CULPRITS);
+			c.who.tid = who;
+			causes_add(&cs, tid, &c);
+		}
+		causes_sort(&cs);	/* the groups move: the index follows */
+		assert_int_equal(cs.n, THREADS * CULPRITS);
+	}
+	for (tid = 1000; tid < 1000 + THREADS; tid++) {
+		g = causes_of(&cs, tid, &n);
+		assert_non_null(g);
+		assert_int_equal(n, CULPRITS);
+		for (k = 0; k < n; k++) {
+			assert_int_equal(g[k].tid, tid);
+			assert_int_equal(g[k].count, ROUNDS);
+		}
+	}
+	assert_null(causes_of(&cs, 999, &n));
+	assert_int_equal(n, 0);
+	assert_null(causes_of(&cs, 1000 + THREADS, &n));
+	causes_clear(&cs);	/* an interval's table: empty, its index too */
+	assert_null(causes_of(&cs, 1000, &n));
+	{
+		struct rtsup_cause c = cause(RTSUP_CAUSE_WAIT, 9, "x", MS);
+
+		causes_add(&cs, 1000, &c);
+		causes_add(&cs, 1000, &c);
+		assert_int_equal(cs.n, 1);
+		assert_int_equal(cs.g[0].count, 2);
+	}
+	causes_free(&cs);
+}
+
 /* the verdict's short form: the top group of each thread, interval and life */
 static void test_causes_to_model(void **state)
 {
@@ -200,6 +253,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_causes_grouped_by_thread_kind_culprit),
 		cmocka_unit_test(test_causes_text),
+		cmocka_unit_test(test_causes_many_groups_indexed),
 		cmocka_unit_test(test_causes_to_model),
 		cmocka_unit_test(test_causes_backlog_after_the_machine),
 		cmocka_unit_test(test_unsafe_event_syscall),
