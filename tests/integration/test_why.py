@@ -153,9 +153,12 @@ def test_fifo_hog_is_named(bpf):
     # (tens of us; 200 us each)
     assert sum(g["total_ns"] for g in held) >= count(held) * (3 * MS - 1 * MS - 200000), \
         (truth, gs)
-    # the hog's share of one cycle's wait is one burst at most
+    # the hog's share of one cycle's wait is one burst at most: from its
+    # timer's expiry (it switched in at or after it, a vCPU held by the host
+    # before its first clock read included) to its last clock read, + 200 us
+    # from that read to its switch-out
     for g in by_culprit(gs, truth["other_tid"], ("wait", "preemption")):
-        assert g["max_ns"] <= truth["burst_max_ns"] + 200000, (truth, g)
+        assert g["max_ns"] <= truth["burst_span_max_ns"] + 200000, (truth, g)
     # each miss event says it in JSON too
     ev = miss_events(intervals, truth["rt_tid"])
     assert ev and all("cause" in e for e in ev)
@@ -238,8 +241,12 @@ def test_preemptor_is_named(bpf):
     pre = by_culprit(gs, truth["other_tid"], ("preemption",))
     assert pre and all(g["who"]["comm"] == "why-preemptor" and g["who"]["prio"] == 70
                        for g in pre), gs
-    # the preemptor's share lasts the burst, never longer (+ the two clocks' 200 us)
-    assert max(g["max_ns"] for g in pre) <= truth["burst_max_ns"] + 200000, (truth, pre)
+    # the preemptor's share lasts the burst, never longer: from its timer's
+    # expiry, + 200 us from its last clock read to its switch-out (as above).
+    # From its first clock read the bound failed twice (CI 91, CI 102: 4.84
+    # ms against 4.09 ms): on a VM whose host holds the vCPU for ms, the hold
+    # can fall between the switch-in and that read
+    assert max(g["max_ns"] for g in pre) <= truth["burst_span_max_ns"] + 200000, (truth, pre)
 
 
 @host_only

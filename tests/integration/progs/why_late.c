@@ -70,6 +70,13 @@ static pthread_mutex_t lock;
 static volatile int rt_tid, other_tid;
 static long bursts, misses, cycles;
 static int64_t burst_max;
+/*
+ * The longest burst from its timer's expiry: the thread switched in at or
+ * after it (a timer never fires early), so this bounds the time it held
+ * the CPU from its start, a vCPU held by the host before its first clock
+ * read included (burst_max starts at that read)
+ */
+static int64_t burst_span_max;
 #define LATE_MAX	512
 static long slept_misses, backlogs, nlate;
 static int64_t late_ns[LATE_MAX];
@@ -239,6 +246,8 @@ static void *other(void *p)
 			pthread_mutex_unlock(&lock);
 		if (now_ns() - t0 > burst_max)
 			burst_max = now_ns() - t0;
+		if (now_ns() - next > burst_span_max)
+			burst_span_max = now_ns() - next;
 		bursts++;
 		/* +-10 ms so that it never locks to why-rt's phase */
 		next += a->every + (rand() % 21 - 10) * MS;
@@ -271,6 +280,8 @@ static void *resolver(void *p)
 			die("UFFDIO_COPY");
 		if (now_ns() - t0 > burst_max)
 			burst_max = now_ns() - t0;
+		if (now_ns() - t0 > burst_span_max)
+			burst_span_max = now_ns() - t0;
 		bursts++;
 	}
 	return NULL;
@@ -377,6 +388,7 @@ int main(int argc, char **argv)
 	printf("{\"pid\": %d, \"rt_tid\": %d, \"other_tid\": %d, \"other\": \"%s\", \"prio\": %d, "
 	       "\"bursts\": %ld, \"burst_max_ns\": %lld, \"cycles\": %ld, \"misses\": %ld, ",
 	       getpid(), rt_tid, other_tid, oa.name, oa.prio, bursts, (long long)burst_max, cycles, misses);
+	printf("\"burst_span_max_ns\": %lld, ", (long long)burst_span_max);
 	printf("\"slept_misses\": %ld, \"backlogs\": %ld, \"late_ns\": [", slept_misses, backlogs);
 	for (long i = 0; i < nlate; i++)
 		printf("%s%lld", i ? ", " : "", (long long)late_ns[i]);
