@@ -1249,18 +1249,28 @@ RT_POLICY_PY = SLEEP_UNTIL_PY + r'''
 import os, sys, time
 mode, out, n = sys.argv[1], sys.argv[2], int(sys.argv[3])
 m = int(sys.argv[4]) if len(sys.argv) > 4 else 0
+late = 0
 def loop(k):
     """k cycles of 2 ms; returns how many sleeps, from the first, had their
     release already past (or under 0.1 ms ahead: the time from here to the
-    kernel's timer) when called: those return without a context switch."""
+    kernel's timer) when called: those return without a context switch.
+    Such sleeps after the first one ahead (a host that held the thread for
+    a period) are counted in 'late': each ends no cycle."""
+    global late
     t = time.monotonic()
     lead = None
     for i in range(k):
         t += 0.002
-        if lead is None and t - time.monotonic() > 0.0001:
+        ahead = t - time.monotonic() > 0.0001
+        if lead is None and ahead:
             lead = i
+        elif lead is not None and not ahead:
+            late += 1
         sleep_until(t)
     return k if lead is None else lead
+def say_late():
+    with open(out + ".late", "w") as f:
+        f.write(str(late))
 def say(pid):
     with open(out + ".tmp", "w") as f:
         f.write(str(pid))
@@ -1276,6 +1286,7 @@ if mode == "setsched":
     lead = loop(n)
     with open(out + ".lead", "w") as f:
         f.write(str(lead))
+    say_late()
 elif mode in ("fork", "fork-reset"):
     reset = os.SCHED_RESET_ON_FORK if mode == "fork-reset" else 0
     os.sched_setscheduler(0, os.SCHED_FIFO | reset, fifo)
@@ -1319,9 +1330,11 @@ elif mode == "back":  # RT for n cycles, not RT for 1 s, RT again for n
     os.sched_setscheduler(0, os.SCHED_OTHER, os.sched_param(0))
     time.sleep(1.0)  # five of the test's intervals: let go
     os.sched_setscheduler(0, os.SCHED_FIFO, fifo)
+    late = 0  # the second run's only
     lead = loop(n)
     with open(out + ".lead", "w") as f:
         f.write(str(lead))
+    say_late()
 elif mode == "drop":
     os.sched_setscheduler(0, os.SCHED_FIFO, fifo)
     say(os.getpid())
@@ -1401,9 +1414,11 @@ def test_rt_finds_a_thread_that_becomes_rt(tmp_path, hook):
     # sleeps before its first real block (their release already past, as
     # the program saw: a host that held the VM) open no cycle it can see
     lead = 0 if hooked else int((tmp_path / "pid.lead").read_text())
+    # a sleep the host made late after that ends no cycle
+    late = int((tmp_path / "pid.late").read_text())
     # its first sleep opens the first cycle, its exit cuts the last
-    assert n - 2 - lead <= got[pid]["total"]["cycles"] <= n, "lead %d\n%s" % (
-        lead, cycle_trail(intervals, summary, pid, err))
+    assert n - 2 - lead - late <= got[pid]["total"]["cycles"] <= n, "lead %d late %d\n%s" % (
+        lead, late, cycle_trail(intervals, summary, pid, err))
 
 
 # A SCHED_FIFO process with a big address space, on one CPU: n cycles of 2
@@ -1524,8 +1539,11 @@ def test_rt_follows_a_thread_back_after_it_was_let_go(tmp_path, hook):
     t = threads_by_tid(summary).get(pid)
     assert t and not t.get("left_rt"), cycle_trail(intervals, summary, pid, err)
     lead = 0 if hooked else int((tmp_path / "pid.lead").read_text())
-    assert n - 2 - lead <= t["total"]["cycles"] <= n, "lead %d\n%s" % (
-        lead, cycle_trail(intervals, summary, pid, err))
+    # and a sleep the host made late after that ends no cycle (CI 103: 497
+    # of 500 beside 4 ms of machine latency, lead 0)
+    late = int((tmp_path / "pid.late").read_text())
+    assert n - 2 - lead - late <= t["total"]["cycles"] <= n, "lead %d late %d\n%s" % (
+        lead, late, cycle_trail(intervals, summary, pid, err))
 
 
 @pytest.mark.parametrize("hook", list(RT_HOOKS))
