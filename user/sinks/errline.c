@@ -4,7 +4,12 @@
 #include <stdio.h>
 #include "sinks/errline.h"
 
-/* seterr - format one line into err (newlines become spaces) */
+/*
+ * seterr - format one line into err: every control character becomes a
+ * space. A damaged file's bytes quoted in a parser's message (jansson's
+ * "near '...'") may hold a form feed or a vertical tab, which readers take
+ * for a line break too (CI 104: the message's last line was "' (position 178)").
+ */
 void seterr(char *err, size_t errlen, const char *fmt, ...)
 {
 	va_list ap;
@@ -16,6 +21,6 @@ void seterr(char *err, size_t errlen, const char *fmt, ...)
 	vsnprintf(err, errlen, fmt, ap);
 	va_end(ap);
 	for (p = err; *p; p++)
-		if (*p == '\n' || *p == '\r')
+		if ((unsigned char)*p < 0x20 || *p == 0x7f)
 			*p = ' ';
 }

@@ -5,7 +5,7 @@
 
 #include <stddef.h>
 
-/* seterr - format one line into err (newlines become spaces) */
+/* seterr - format one line into err (control characters become spaces) */
 void seterr(char *err, size_t errlen, const char *fmt, ...)
 	__attribute__((format(printf, 3, 4)));
 

@@ -19,6 +19,7 @@
 #include <zlib.h>
 
 #include "sinks/record.h"
+#include "sinks/errline.h"
 
 #define ERRLEN	512
 #define HDR_PRE	16	/* magic | version | header_len */
@@ -983,11 +984,25 @@ static void test_record_fuzz(void **state)
 	free(b);
 }
 
+/* an error is one line: no byte a reader may split lines at */
+static void test_seterr_one_line(void **state)
+{
+	char err[64];
+	const char *p;
+
+	(void)state;
+	seterr(err, sizeof(err), "near '%s' (position %d)", "a\nb\rc\vd\fe\x1c" "f\x7f" "g", 178);
+	assert_string_equal(err, "near 'a b c d e f g' (position 178)");
+	for (p = err; *p; p++)
+		assert_true((unsigned char)*p >= 0x20 && *p != 0x7f);
+}
+
 #define T(fn) cmocka_unit_test_setup_teardown(fn, fx_setup, fx_teardown)
 
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_seterr_one_line),
 		T(test_record_header_roundtrip),
 		T(test_record_header_no_config),
 		T(test_record_header_invalid_utf8),
