@@ -57,12 +57,17 @@ static void mig_text(char *buf, size_t len, const struct rtsup_cause *d)
 			 how[d->mig_why < RTSUP_MIG_NR ? d->mig_why : 0]);
 }
 
-/* same_group - one group per thread, kind and culprit */
+/* group_after - what a miss's group keeps of its 'after': a backlog's only */
+static __u32 group_after(const struct rtsup_cause *c)
+{
+	return c->kind == RTSUP_CAUSE_BACKLOG ? c->after : 0;
+}
+
+/* same_group - one group per thread, kind and culprit (and a backlog's after) */
 static int same_group(const struct cause_group *g, __u32 tid, const struct rtsup_cause *c)
 {
 	return g->tid == tid && g->kind == c->kind && g->who.tid == c->who.tid &&
-	       !strncmp(g->who.comm, c->who.comm, RTSUP_COMM_LEN) &&
-	       (c->kind != RTSUP_CAUSE_BACKLOG || g->after == c->after);
+	       !strncmp(g->who.comm, c->who.comm, RTSUP_COMM_LEN) && g->after == group_after(c);
 }
 
 /* group_hash - the slot a group of thread tid with cause kind, culprit and after starts at */
@@ -74,12 +79,18 @@ static size_t group_hash(__u32 tid, __u32 kind, __u32 who, __u32 after, size_t c
 	return (size_t)(h ^ h >> 29) & (cap - 1);
 }
 
+/* index_due - the index must grow (or be made) to hold n groups: at most half full */
+static int index_due(size_t index_cap, size_t n)
+{
+	return index_cap < 2 * n || index_cap < 16;
+}
+
 static size_t slot_of(const struct causes *cs, const struct cause_group *g)
 {
 	return group_hash(g->tid, g->kind, g->who.tid, g->after, cs->index_cap);
 }
 
-/* index_put - group i into the index (it has room: causes_index_due) */
+/* index_put - group i into the index (it has room: index_due) */
 static void index_put(struct causes *cs, size_t i)
 {
 	size_t k = slot_of(cs, &cs->g[i]);
@@ -120,7 +131,6 @@ static int index_rebuild(struct causes *cs, size_t cap)
 static struct cause_group *find_group(const struct causes *cs, __u32 tid,
 				      const struct rtsup_cause *c)
 {
-	__u32 after = c->kind == RTSUP_CAUSE_BACKLOG ? c->after : 0;
 	size_t i, k;
 
 	if (!cs->index) {
@@ -129,7 +139,7 @@ static struct cause_group *find_group(const struct causes *cs, __u32 tid,
 				return &cs->g[i];
 		return NULL;
 	}
-	for (k = group_hash(tid, c->kind, c->who.tid, after, cs->index_cap); cs->index[k];
+	for (k = group_hash(tid, c->kind, c->who.tid, group_after(c), cs->index_cap); cs->index[k];
 	     k = (k + 1) & (cs->index_cap - 1))
 		if (same_group(&cs->g[cs->index[k] - 1], tid, c))
 			return &cs->g[cs->index[k] - 1];
@@ -156,13 +166,13 @@ void causes_add(struct causes *cs, __u32 tid, const struct rtsup_cause *c)
 		memset(g, 0, sizeof(*g));
 		g->tid = tid;
 		g->kind = c->kind;
-		g->after = c->kind == RTSUP_CAUSE_BACKLOG ? c->after : 0;
+		g->after = group_after(c);
 		g->who = c->who;
 		g->who.comm[RTSUP_COMM_LEN - 1] = '\0';
-		if (causes_index_due(cs->index_cap, cs->n)) {
+		if (index_due(cs->index_cap, cs->n)) {
 			size_t cap = cs->index_cap ? cs->index_cap : 16;
 
-			while (causes_index_due(cap, cs->n))
+			while (index_due(cap, cs->n))
 				cap *= 2;
 			index_rebuild(cs, cap);
 		} else if (cs->index) {

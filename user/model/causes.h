@@ -34,7 +34,7 @@ struct causes {
 	struct cause_group *g;
 	size_t n, cap;
 	__u32 *index;		/* 0: empty; else a position in g + 1 */
-	size_t index_cap;	/* a power of 2, at least twice n (causes_index_due) */
+	size_t index_cap;	/* a power of 2, at least twice n (causes.c, index_due) */
 	__u64 dropped;		/* misses not grouped for want of memory */
 };
 
@@ -52,11 +52,6 @@ const char *mig_why_name(__u32 why);
  * arg2, 0 outside any or unknown); NULL when none
  */
 const char *unsafe_event_syscall(const struct rtsup_event *e);
-/* causes_index_due - the index must grow (or be made) to hold n groups */
-static inline int causes_index_due(size_t index_cap, size_t n)
-{
-	return index_cap < 2 * n || index_cap < 16;
-}
 /* causes_add - one miss of thread tid with its cause */
 void causes_add(struct causes *cs, __u32 tid, const struct rtsup_cause *c);
 /* causes_sort - by thread, then longest total first */

@@ -231,7 +231,7 @@ struct other_args {
 static void *other(void *p)
 {
 	const struct other_args *a = p;
-	int64_t next, t0;
+	int64_t next, t0, end;
 
 	rt_self(a->name, a->prio);
 	other_tid = gettid();
@@ -244,10 +244,11 @@ static void *other(void *p)
 		burn_until(t0 + a->burn);
 		if (a->use_lock)
 			pthread_mutex_unlock(&lock);
-		if (now_ns() - t0 > burst_max)
-			burst_max = now_ns() - t0;
-		if (now_ns() - next > burst_span_max)
-			burst_span_max = now_ns() - next;
+		end = now_ns();
+		if (end - t0 > burst_max)
+			burst_max = end - t0;
+		if (end - next > burst_span_max)
+			burst_span_max = end - next;
 		bursts++;
 		/* +-10 ms so that it never locks to why-rt's phase */
 		next += a->every + (rand() % 21 - 10) * MS;
@@ -261,7 +262,7 @@ static void *resolver(void *p)
 	const struct other_args *a = p;
 	struct pollfd pfd = { .events = POLLIN };
 	struct uffd_msg m;
-	int64_t t0;
+	int64_t t0, end;
 
 	rt_self(a->name, a->prio);
 	other_tid = gettid();
@@ -278,10 +279,11 @@ static void *resolver(void *p)
 		};
 		if (ioctl(uffd, UFFDIO_COPY, &cp))
 			die("UFFDIO_COPY");
-		if (now_ns() - t0 > burst_max)
-			burst_max = now_ns() - t0;
-		if (now_ns() - t0 > burst_span_max)
-			burst_span_max = now_ns() - t0;
+		end = now_ns();
+		if (end - t0 > burst_max)
+			burst_max = end - t0;
+		if (end - t0 > burst_span_max)
+			burst_span_max = end - t0;
 		bursts++;
 	}
 	return NULL;
