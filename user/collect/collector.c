@@ -841,6 +841,8 @@ static int take_kept(struct collector *c)
 
 	for (i = 0; i < c->model.n; i++) {
 		tm = c->model.t[i];
+		if (i + 1 < c->model.n)
+			model_prefetch(c->model.t[i + 1]);
 		if (seen_now(c, tm) || tm->reported_exit)
 			continue;
 		c->map_entries++;
@@ -949,6 +951,8 @@ static int read_whole(struct collector *c, bool batch)
 		}
 		for (i = 0; i < n; i++) {
 			c->map_entries++;
+			if (i + 1 < n)
+				model_prefetch(model_get(&c->model, c->batch_keys[i + 1], false));
 			if (take(c, c->batch_keys[i], &c->batch_vals[i], NULL, NULL))
 				return -ENOMEM;
 		}

@@ -364,6 +364,21 @@ static const struct rtsup_thread *snapshot_base(const struct rtsup_thread *cur,
 	return prev && cur->resets == prev->resets ? prev : NULL;
 }
 
+/*
+ * snapshot_bytes - the bytes of a snapshot the model reads: all but why,
+ * the kernel's own state for cause attribution (cause.h), whose findings
+ * come by the ring. 760 bytes a running thread an interval not copied, and
+ * a change there alone is no change of the thread (model_views_spans).
+ */
+static size_t snapshot_bytes(void)
+{
+	return offsetof(struct rtsup_thread, why);
+}
+
+/* snapshot_take_moved copies whole all fields but the buckets: why is the last */
+_Static_assert(offsetof(struct rtsup_thread, why) + sizeof(struct rtsup_why) ==
+	       sizeof(struct rtsup_thread), "a field after why: snapshot_bytes misses it");
+
 /* span_counters - counters of cur minus prev (prev may be NULL) */
 static void span_counters(const struct rtsup_thread *c, const struct rtsup_thread *p,
 			  struct span_view *s)
@@ -603,7 +618,7 @@ static bool model_views_spans(struct thread_model *tm, const struct rtsup_thread
 	 * the same bytes as the last snapshot (a parked thread): an empty
 	 * interval, and the lifetime views the last call made from them
 	 */
-	if (prev && !memcmp(prev, t, sizeof(*t))) {
+	if (prev && !memcmp(prev, t, snapshot_bytes())) {
 		model_idle(tm);
 		return false;
 	}
@@ -666,10 +681,6 @@ bool model_views(struct thread_model *tm, const struct rtsup_thread *t,
 	return model_views_spans(tm, t, prev, bank, &spans);
 }
 
-/* snapshot_take_moved copies whole all fields but the buckets: why is the last */
-_Static_assert(offsetof(struct rtsup_thread, why) + sizeof(struct rtsup_why) ==
-	       sizeof(struct rtsup_thread), "a field after why: snapshot_take_moved misses it");
-
 /*
  * snapshot_take_moved - cur becomes t, whose buckets differ from cur's only
  * within the interval's spans life_add found (l): a thread's 4 x 280
@@ -687,7 +698,6 @@ static void snapshot_take_moved(struct rtsup_thread *cur, const struct rtsup_thr
 			memcpy(&cur->m[i].hist[l->wlo[i]], &t->m[i].hist[l->wlo[i]],
 			       (size_t)(l->whi[i] - l->wlo[i] + 1) * sizeof(t->m[i].hist[0]));
 	}
-	cur->why = t->why;
 }
 
 bool model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank)
@@ -712,6 +722,26 @@ void model_idle(struct thread_model *tm)
 	memset(&tm->win, 0, sizeof(tm->win));
 	if (tm->life_hist)
 		win_clear(tm->life_hist);
+}
+
+void model_prefetch(const struct thread_model *tm)
+{
+	const char *p = (const char *)tm, *cur = (const char *)&tm->cur;
+	size_t o;
+	int i;
+
+	if (!tm)
+		return;
+	for (o = 0; o < offsetof(struct thread_model, cur); o += 64)
+		__builtin_prefetch(p + o, 1);
+	for (o = 0; o < offsetof(struct rtsup_thread, m); o += 64)
+		__builtin_prefetch(cur + o, 1);
+	for (i = 0; i < RTSUP_M_NR; i++) {
+		__builtin_prefetch(&tm->cur.m[i], 1);
+		__builtin_prefetch((const char *)&tm->cur.m[i] + 64, 1);
+	}
+	for (o = 0; o < sizeof(tm->win); o += 64)
+		__builtin_prefetch((const char *)&tm->win + o, 1);
 }
 
 /* find - binary search in the tid-sorted array */

@@ -188,7 +188,8 @@ void span_window(const struct rtsup_thread *cur, const struct rtsup_thread *prev
 /*
  * model_set - a new snapshot of the thread's kernel entry; its interval
  * view is the change since the previous one (none yet: since the start).
- * False when it is the same bytes as the previous one.
+ * False when it is the same bytes as the previous one (but the kernel's
+ * attribution state, which the model does not keep: snapshot_bytes).
  */
 bool model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank);
 /*
@@ -221,6 +222,13 @@ void model_idle(struct thread_model *tm);
 
 /* model_get - the thread's model, created (zeroed) when 'create' */
 struct thread_model *model_get(struct model *m, __u32 tid, bool create);
+/*
+ * model_prefetch - ask the CPU for the lines of tm a snapshot reads and
+ * writes (model_set), while the thread before it is taken: 1000 models of
+ * 10 KiB each are out of the cache by the next interval, and each waited
+ * for its misses one after the other
+ */
+void model_prefetch(const struct thread_model *tm);
 /* model_sort - every thread in tid order, for the outputs (pointers into t change) */
 void model_sort(struct model *m);
 /*

@@ -705,6 +705,34 @@ static void test_model_idle_snapshot_keeps_life_views(void **state)
 }
 
 /*
+ * The kernel's cause attribution state (why) is no part of the thread the
+ * model reads (snapshot_bytes): a snapshot that moved there only is the
+ * same snapshot, a parked thread's, and a cycle after it is counted as
+ * from the last snapshot's counts
+ */
+static void test_model_why_alone_is_no_change(void **state)
+{
+	struct tfx *t = *state;
+	struct model m = { 0 };
+	struct thread_model *tm = model_get(&m, 42, true);
+
+	assert_non_null(tm);
+	t->cur.first_seen = 7;
+	add_cycles(&t->cur, 5, 100 * US, 0);
+	assert_true(model_set(tm, &t->cur, 0));
+	t->cur.why.out_ts = 123;	/* a hook's attribution state only */
+	t->cur.why.cur.wait_ns = 9;
+	assert_false(model_set(tm, &t->cur, 1));
+	assert_int_equal(tm->win.cycles, 0);
+	add_cycles(&t->cur, 2, 100 * US, 0);
+	assert_true(model_set(tm, &t->cur, 0));
+	assert_int_equal(tm->win.cycles, 2);
+	assert_int_equal(tm->win.m[RTSUP_M_EXEC].count, 2);
+	assert_int_equal(tm->life.cycles, 7);
+	model_free(&m);
+}
+
+/*
  * What the kernel counted before the thread's first cycle (a snapshot
  * without cycles keeps no lifetime of its own) is in the lifetime once one
  * is kept: every view as the kernel's buckets give it.
@@ -1024,6 +1052,7 @@ int main(void)
 		TS(test_model_life_hist_wrap),
 		TS(test_model_views_follow_moving_buckets),
 		TS(test_model_buckets_outside_the_banks),
+		TS(test_model_why_alone_is_no_change),
 		TS(test_model_idle_snapshot_keeps_life_views),
 		TS(test_model_life_holds_counts_before_the_first_cycle),
 		M(test_model_get_sorted),
