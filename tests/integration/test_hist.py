@@ -151,8 +151,11 @@ def test_hist_text_marks_the_exec_warn_threshold(tmp_path):
          "-n", "1", "-P", "1000", "-w", "100", "-c", "500", "-s", str(tmp_path / "lg.json")],
         capture_output=True, text=True, timeout=120, env=dict(os.environ, COLUMNS="80"))
     assert r.returncode == 0, r.stderr
+    # the row's marks follow its bar: WARN among them, with p99.9 and max too
+    # when a value lands there (CI 106: the hypervisor held the vCPU 0.74 ms
+    # inside one cycle, an 856 us exec in the row that holds 800 us)
     warn = [line for line in r.stdout.splitlines() if "|" in line and
-            line.rstrip().endswith("WARN")]
+            "WARN" in line.split("|")[-1].split()]
     assert len(warn) == 1, r.stdout
     lo, hi = warn[0].split("|")[0].split()[:3:2]
     assert ns_of(lo) <= 800000 < ns_of(hi) * 1.001  # bounds are printed to 3 digits
