@@ -375,7 +375,7 @@ static size_t snapshot_bytes(void)
 	return offsetof(struct rtsup_thread, why);
 }
 
-/* snapshot_take_moved copies whole all fields but the buckets: why is the last */
+/* snapshot_bytes and snapshot_take_moved leave out why alone: it is the last field */
 _Static_assert(offsetof(struct rtsup_thread, why) + sizeof(struct rtsup_why) ==
 	       sizeof(struct rtsup_thread), "a field after why: snapshot_bytes misses it");
 
@@ -726,12 +726,14 @@ void model_idle(struct thread_model *tm)
 
 void model_prefetch(const struct thread_model *tm)
 {
-	const char *p = (const char *)tm, *cur = (const char *)&tm->cur;
+	const char *p, *cur;
 	size_t o;
 	int i;
 
 	if (!tm)
 		return;
+	p = (const char *)tm;
+	cur = (const char *)&tm->cur;
 	for (o = 0; o < offsetof(struct thread_model, cur); o += 64)
 		__builtin_prefetch(p + o, 1);
 	for (o = 0; o < offsetof(struct rtsup_thread, m); o += 64)
