@@ -65,6 +65,7 @@ static __always_inline void zero_mem(void *p, __u32 n);
 #define S_IFREG		0100000
 #define S_IFCHR		0020000
 #define EEXIST		17
+#define E2BIG		7
 #define PF_KTHREAD	0x00200000
 #define SIGNAL_GROUP_EXIT	0x00000004	/* include/linux/sched/signal.h, since 2.6 */
 
@@ -129,12 +130,29 @@ SYS_BODY_ARRAY(sys_out_body)
 SYS_BODY_ARRAY(sys_in_body_z)
 SYS_BODY_ARRAY(sys_out_body_z)
 
+/* The thread map: tid -> its entry's slot in thread_mem (threadread.h). */
 struct {
 	__uint(type, BPF_MAP_TYPE_HASH);
 	__uint(max_entries, RTSUP_DEFAULT_THREADS);	/* --max-threads */
 	__type(key, __u32);
-	__type(value, struct rtsup_thread);
+	__type(value, __u32);
 } threads SEC(".maps");
+
+/* The entries, read in place by the collector; sized as threads. */
+struct {
+	__uint(type, BPF_MAP_TYPE_ARRAY);
+	__uint(map_flags, BPF_F_MMAPABLE);
+	__uint(max_entries, RTSUP_DEFAULT_THREADS);	/* --max-threads */
+	__type(key, __u32);
+	__type(value, struct rtsup_thread);
+} thread_mem SEC(".maps");
+
+/* The slots of thread_mem not in use; filled by userspace at load. */
+struct {
+	__uint(type, BPF_MAP_TYPE_QUEUE);
+	__uint(max_entries, RTSUP_DEFAULT_THREADS);	/* --max-threads */
+	__type(value, __u32);
+} thread_free SEC(".maps");
 
 /*
  * One wait slot per CPU: the target waiting for that CPU, woken or
@@ -396,14 +414,17 @@ static __always_inline void note_wake(const struct rtsup_thread *t)
 }
 
 /*
- * moved_send - name the entry t of tid in the ring "moved" for read seq
- * (threadread.h): once a read a thread, so out of line, not in every hook
+ * moved_send - name the entry t of tid at slot in the ring "moved" for
+ * read seq (threadread.h): once a read a thread, so out of line, not in
+ * every hook
  */
-static __noinline int moved_send(struct rtsup_thread *t, __u32 tid, __u32 seq)
+static __noinline int moved_send(struct rtsup_thread *t, __u32 tid, __u32 slot, __u32 seq)
 {
+	struct rtsup_moved_rec r = { .tid = tid, .slot = slot };
+
 	if (!t)
 		return 0;
-	if (bpf_ringbuf_output(&moved, &tid, sizeof(tid), BPF_RB_NO_WAKEUP))
+	if (bpf_ringbuf_output(&moved, &r, sizeof(r), BPF_RB_NO_WAKEUP))
 		threads_moved_lost = 1;
 	else
 		t->moved_seq = seq;
@@ -412,18 +433,24 @@ static __noinline int moved_send(struct rtsup_thread *t, __u32 tid, __u32 seq)
 
 /*
  * thread_entry - tid's entry, for a hook that may write it: its generation
- * moves (threadread.h). The only lookup of the thread map but thread_exists.
+ * moves (threadread.h). The only lookup of the thread map but thread_exists
+ * and thread_add_entry.
  */
 static __always_inline struct rtsup_thread *thread_entry(__u32 tid)
 {
-	struct rtsup_thread *t = bpf_map_lookup_elem(&threads, &tid);
-	__u32 seq = threads_moved_seq;
+	__u32 *at = bpf_map_lookup_elem(&threads, &tid);
+	__u32 seq = threads_moved_seq, slot;
+	struct rtsup_thread *t;
 
+	if (!at)
+		return NULL;
+	slot = *at;
+	t = bpf_map_lookup_elem(&thread_mem, &slot);
 	if (!t)
 		return NULL;
 	thread_touch(t);
 	if (thread_moved_due(t->moved_seq, seq))
-		moved_send(t, tid, seq);
+		moved_send(t, tid, slot, seq);
 	return t;
 }
 
@@ -431,6 +458,30 @@ static __always_inline struct rtsup_thread *thread_entry(__u32 tid)
 static __always_inline bool thread_exists(__u32 tid)
 {
 	return bpf_map_lookup_elem(&threads, &tid) != NULL;
+}
+
+/*
+ * thread_add_entry - an entry for tid, a free slot of thread_mem set to
+ * tmpl before the thread map names it (a hook that finds it finds it
+ * whole): 0, -EEXIST when tid has one, -E2BIG when no slot is free (the
+ * map is full), or the thread map's error (-EBUSY on PREEMPT_RT: add_thread)
+ */
+static __always_inline long thread_add_entry(__u32 tid, struct rtsup_thread *tmpl)
+{
+	__u32 slot;
+	long err;
+
+	if (thread_exists(tid))
+		return -EEXIST;
+	if (bpf_map_pop_elem(&thread_free, &slot))
+		return -E2BIG;
+	err = bpf_map_update_elem(&thread_mem, &slot, tmpl, BPF_ANY);
+	if (!err)
+		err = bpf_map_update_elem(&threads, &tid, &slot, BPF_NOEXIST);
+	/* back where it was taken: the queue has room for every slot */
+	if (err)
+		bpf_map_push_elem(&thread_free, &slot, 0);
+	return err;
 }
 
 /* lookup_thread - the thread's entry, NULL for every thread that is no target */
@@ -862,7 +913,7 @@ static __always_inline struct rtsup_thread *add_thread(struct task_struct *task,
 	if (!tmpl)
 		return NULL;
 	tid_mark_new(tidmask, wakemask, tid);
-	err = bpf_map_update_elem(&threads, &tid, tmpl, BPF_NOEXIST);
+	err = thread_add_entry(tid, tmpl);
 	/*
 	 * The entry may be there whatever the error: -EEXIST, or -EBUSY on
 	 * PREEMPT_RT, where a program preempted inside an update of this map
@@ -2380,11 +2431,15 @@ int attrs_task(struct bpf_iter__task *ctx)
 SEC("iter/bpf_map_elem")
 int threads_read(struct bpf_iter__bpf_map_elem *ctx)
 {
-	struct rtsup_thread *t = ctx->value;
-	__u32 *tid = ctx->key;
+	__u32 *tid = ctx->key, *at = ctx->value, slot;
+	struct rtsup_thread *t;
 
-	return tid && t ? BODY(thread_rec_write(ctx->meta->seq, *tid, t, THREAD_TASK_UNREAD,
-						 NULL, false)) : 0;
+	if (!tid || !at)
+		return 0;
+	slot = *at;
+	t = bpf_map_lookup_elem(&thread_mem, &slot);
+	return t ? BODY(thread_rec_write(ctx->meta->seq, *tid, slot, t, THREAD_TASK_UNREAD,
+					 NULL, false)) : 0;
 }
 
 RTSUP_PROGS("tp_btf", btf, 1)

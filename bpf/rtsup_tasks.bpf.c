@@ -19,6 +19,15 @@
 extern struct task_struct *bpf_task_from_pid(s32 pid) __ksym;
 extern void bpf_task_release(struct task_struct *p) __ksym;
 
+/* rtsup.bpf.c's entries (threadread.h): the loader gives this object its fd. */
+struct {
+	__uint(type, BPF_MAP_TYPE_ARRAY);
+	__uint(map_flags, BPF_F_MMAPABLE);
+	__uint(max_entries, RTSUP_DEFAULT_THREADS);
+	__type(key, __u32);
+	__type(value, struct rtsup_thread);
+} thread_mem SEC(".maps");
+
 /* Written by the collector before each read. */
 __u32 threads_read_tasks_only;	/* copy no entry: a batch read does */
 __u32 threads_read_seq;		/* its sample: which parked entries' tasks (thread_task_due) */
@@ -46,17 +55,21 @@ static __always_inline __u16 task_of_entry(__u32 tid, struct rtsup_task_attrs *a
 SEC("iter/bpf_map_elem")
 int threads_read_attrs(struct bpf_iter__bpf_map_elem *ctx)
 {
-	struct rtsup_thread *t = ctx->value;
+	__u32 *tid = ctx->key, *at = ctx->value, slot;
 	struct rtsup_task_attrs a;	/* written when read (task_of_entry) */
-	__u32 *tid = ctx->key;
 	__u16 task = THREAD_TASK_UNREAD;
+	struct rtsup_thread *t;
 
-	if (!tid || !t)
+	if (!tid || !at)
+		return 0;
+	slot = *at;
+	t = bpf_map_lookup_elem(&thread_mem, &slot);
+	if (!t)
 		return 0;
 	if (thread_task_due(t->gen, t->read_seen, t->read_again, *tid, threads_read_seq,
 			    threads_read_tasks))
 		task = task_of_entry(*tid, &a);
-	return thread_rec_write(ctx->meta->seq, *tid, t, task, &a, threads_read_tasks_only);
+	return thread_rec_write(ctx->meta->seq, *tid, slot, t, task, &a, threads_read_tasks_only);
 }
 
 char LICENSE[] SEC("license") = "Dual BSD/GPL";

@@ -31,26 +31,25 @@ static __always_inline int task_attrs_fill(struct task_struct *task, struct rtsu
 }
 
 /*
- * thread_rec_write - an entry's record, its task's attributes a when
- * task says so (enum thread_task), and the entry after them when it
- * changed (threadread.h), unless no_copy (a batch read copies them);
- * nothing when neither (thread_rec_skipped). When the read's buffer is
- * full the entry is shown again by the next read: its reader fields go
- * back.
+ * thread_rec_write - an entry's record: its task's attributes a when task
+ * says so (enum thread_task), and whether the collector copies the entry
+ * (at slot of thread_mem) because it changed (threadread.h), unless
+ * no_copy (a batch read copies them); nothing when neither
+ * (thread_rec_skipped). When the read's buffer is full the entry is shown
+ * again by the next read: its reader fields go back.
  */
-static __always_inline int thread_rec_write(struct seq_file *seq, __u32 tid,
+static __always_inline int thread_rec_write(struct seq_file *seq, __u32 tid, __u32 slot,
 					    struct rtsup_thread *t, __u16 task,
 					    const struct rtsup_task_attrs *a, bool no_copy)
 {
-	struct rtsup_thread_rec r = { .tid = tid, .task = task };
+	struct rtsup_thread_rec r = { .tid = tid, .slot = slot, .task = task };
 	__u32 seen = t->read_seen, again = t->read_again;
 
 	r.full = !no_copy && thread_copy_due(t->gen, &t->read_seen, &t->read_again);
 	if (thread_rec_skipped(r.full, task))
 		return 0;
 	if (bpf_seq_write(seq, &r, sizeof(r)) ||
-	    (task == THREAD_TASK_ATTRS && bpf_seq_write(seq, a, sizeof(*a))) ||
-	    (r.full && bpf_seq_write(seq, t, sizeof(*t)))) {
+	    (task == THREAD_TASK_ATTRS && bpf_seq_write(seq, a, sizeof(*a)))) {
 		t->read_seen = seen;
 		t->read_again = again;
 	}

@@ -33,6 +33,32 @@ RTSUP_INLINE __s64 ewma_update(__s64 ewma, __u64 count, __u64 v, __u32 w)
 	return (__s64)((__u64)ewma + (__u64)step);
 }
 
+/*
+ * metric_banks_range - the buckets between the lowest and highest value of
+ * both interval banks of s ([HIST_BUCKETS, -1] when both are empty): where
+ * the values since the collector's last read went (rtsup.h, "Interval
+ * windows"). Userspace only: the collector's short copies and the model.
+ */
+#ifndef __bpf__
+static inline void metric_banks_range(const struct rtsup_metric_stats *s, int *lo, int *hi)
+{
+	int i, a, b;
+
+	*lo = HIST_BUCKETS;
+	*hi = -1;
+	for (i = 0; i < 2; i++) {
+		if (s->win[i].min > s->win[i].max)
+			continue;	/* empty (minmax_reset) */
+		a = (int)hist_bucket(s->win[i].min);
+		b = (int)hist_bucket(s->win[i].max);
+		if (a < *lo)
+			*lo = a;
+		if (b > *hi)
+			*hi = b;
+	}
+}
+#endif
+
 /* minmax_reset - empty an interval bank */
 RTSUP_INLINE void minmax_reset(struct rtsup_minmax *mm)
 {

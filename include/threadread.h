@@ -8,8 +8,8 @@
  * with 900 parked threads. Every hook that looks an entry up to write it
  * moves the entry's generation (thread_touch); the map iterator of the
  * sample (threads_read) sends nothing for an entry whose generation did not
- * move (a short record when it read its task, thread_rec_skipped), and the
- * whole entry for one whose did.
+ * move (a short record when it read its task, thread_rec_skipped), and a
+ * record that asks for a copy for one whose did.
  *
  * A hook moves the generation before it writes (at the lookup), so a copy
  * taken while a hook runs may miss that hook's last writes. Every change
@@ -21,10 +21,10 @@
  * Walking the map still visits every entry: with 900 parked threads that
  * visit (a cache miss each) was the largest cost left. So the hooks also
  * say which entries moved: the first time a hook looks an entry up after
- * the collector began a read (threads_moved_seq), it sends the tid to the
- * ring "moved" (thread_moved_due). Most samples the collector copies only
+ * the collector began a read (threads_moved_seq), it sends the tid and
+ * slot to the ring "moved" (thread_moved_due). Most samples the collector copies only
  * those entries, and the ones it copied at the sample before (the second
- * copy), one lookup each, and visits no other (thread_read_whole says when
+ * copy), a copy from its memory each, and visits no other (thread_read_whole says when
  * the iterator reads the whole map instead).
  */
 #ifndef RTSUP_THREADREAD_H
@@ -33,13 +33,40 @@
 #include "rtsup.h"
 
 /*
+ * Where the entries are: the map "threads" holds tid -> slot, and the
+ * entry is slot's element of "thread_mem", an array the collector maps
+ * into its memory and copies from in place, without a syscall or the
+ * kernel's two copies of a lookup (a quarter of rtsup-trace's CPU with
+ * 1000 running threads). A slot not in use waits in the queue
+ * "thread_free": the hooks take one for a thread they add, the collector
+ * for one its start-up scan adds, and gives it back when it reaps the
+ * entry (after zeroing its tid, so a stale slot is never taken for it).
+ */
+#define THREAD_NO_SLOT	(~0U)	/* a record that names no slot: look the tid up */
+
+/* thread_slot_ok - is slot an element of thread_mem's n? */
+RTSUP_INLINE int thread_slot_ok(__u32 slot, __u32 n)
+{
+	return slot < n;
+}
+
+/*
  * What the iterator writes for each entry: this, then the task's attributes
- * when 'task' is THREAD_TASK_ATTRS, then the entry when 'full'.
+ * when 'task' is THREAD_TASK_ATTRS. 'full' asks the collector to copy the
+ * entry at 'slot' now (thread_copy_due).
  */
 struct rtsup_thread_rec {
 	__u32 tid;
-	__u16 full;	/* 1: a struct rtsup_thread follows */
+	__u32 slot;	/* of thread_mem */
+	__u16 full;	/* 1: copy the entry */
 	__u16 task;	/* enum thread_task */
+	__u32 pad;	/* the attributes that follow start 8-byte aligned */
+};
+
+/* What a hook sends to the ring "moved": the entry it looked up. */
+struct rtsup_moved_rec {
+	__u32 tid;
+	__u32 slot;
 };
 
 /*
@@ -123,7 +150,7 @@ RTSUP_INLINE void thread_sched_seen(struct rtsup_thread *t, __u32 policy, __u32 
 
 /*
  * thread_moved_ring_bytes - the ring "moved" for max_threads entries: each
- * is sent at most once a read (a record of 16 bytes: its header and tid),
+ * is sent at most once a read (a record of 16 bytes: its header, tid and slot),
  * and twice between two reads of the collector at most (once before it
  * moved threads_moved_seq, once after); a power of 2 of pages, as the
  * kernel wants
@@ -152,6 +179,9 @@ RTSUP_INLINE __u32 thread_moved_ring_bytes(__u32 max_threads, __u32 page)
  *   an entry that did not move each, and the walk's fixed part costs
  *   THREAD_WALK_LOOKUPS lookups (a lookup and its copy ~1 us, a visit
  *   0.26 us, the walk's buckets and file ~100 us: docs/performance.md).
+ *   The copies from thread_mem took the syscall out of a lookup, yet all
+ *   1000 threads running, read by name, still cost more than the walk
+ *   (5.6 against 4.7 % of a CPU at 100 ms intervals): the rule stays.
  */
 #define THREAD_LOOKUP_VISITS	4
 #define THREAD_WALK_LOOKUPS	100
@@ -185,11 +215,38 @@ RTSUP_INLINE __u32 thread_read_tasks(int moved_ok, __u64 seq, int forced)
 	return thread_read_all(seq, forced) ? THREAD_TASKS_ALL : THREAD_TASKS_NONE;
 }
 
+#ifndef __bpf__
+#include <stddef.h>
+#include <string.h>
+#include "stats.h"
+
+/*
+ * thread_copy_short - t's fields into *out, and of its buckets only those
+ * between the lowest and highest values of each metric's interval banks,
+ * read from the counts copied (metric_banks_range): the buckets the
+ * values since the last read went to, ~15 cache lines of 95. The others
+ * stay as they were in *out (the model's check: model_set_sent).
+ * Userspace only.
+ */
+static inline void thread_copy_short(struct rtsup_thread *out, const struct rtsup_thread *t)
+{
+	int i, a, b;
+
+	memcpy(out, t, offsetof(struct rtsup_thread, m));
+	for (i = 0; i < RTSUP_M_NR; i++) {
+		memcpy(&out->m[i], &t->m[i], offsetof(struct rtsup_metric_stats, hist));
+		metric_banks_range(&out->m[i], &a, &b);
+		if (a <= b)
+			memcpy(&out->m[i].hist[a], &t->m[i].hist[a],
+			       (size_t)(b - a + 1) * sizeof(t->m[i].hist[0]));
+	}
+}
+#endif
+
 /* thread_rec_len - the bytes of a record with its followers */
 RTSUP_INLINE __u32 thread_rec_len(const struct rtsup_thread_rec *r)
 {
-	return sizeof(*r) + (r->task == THREAD_TASK_ATTRS ? sizeof(struct rtsup_task_attrs) : 0) +
-	       (r->full ? sizeof(struct rtsup_thread) : 0);
+	return sizeof(*r) + (r->task == THREAD_TASK_ATTRS ? sizeof(struct rtsup_task_attrs) : 0);
 }
 
 /* thread_touch - a hook may write t: its generation moves */

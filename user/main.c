@@ -258,6 +258,8 @@ static void take_health(struct supervisor *s, const struct collector *c, const s
 	health_counters(h, c->counters);
 	h->thread_map.entries = c->map_entries;
 	h->thread_map_copied = c->map_copied;
+	h->thread_map_short = c->map_short;
+	h->thread_map_short_refused = c->map_short_refused;
 	h->thread_map_visited = c->map_visited;
 	h->thread_map_whole = c->map_whole;
 	h->thread_map_batch = c->map_batch;

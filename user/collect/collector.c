@@ -250,20 +250,20 @@ static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, unsig
 		bpf_map_update_elem(bpf_map__fd(c->skel->maps.tgids), &k, &one, BPF_ANY);
 	/* the hooks look a thread up only when its bits are set (rtsup.h) */
 	tid_mark_new(c->skel->bss->tidmask, c->skel->bss->wakemask, key);
-	/* the kernel may have added it since attach: keep its entry */
 	if (c->unwinder && process) {
 		unwind_note_process(c->unwinder, tgid);
 		unwind_take_verdicts(c->unwinder, put_verdict, c);
 	}
 	/* written here, not by a hook: named for the next read */
-	movedset_note(&c->moved, key);
-	if (bpf_map_update_elem(bpf_map__fd(c->skel->maps.threads), &key, t, BPF_NOEXIST) &&
-	    errno != EEXIST) {
-		if (errno != E2BIG)
-			err = -errno;
+	movedset_note(&c->moved, key, THREAD_NO_SLOT);
+	err = threadmem_add(&c->mem, key, t);
+	if (err == -EEXIST)
+		err = 0;	/* a hook added it since attach: its entry stays */
+	if (err == -E2BIG) {
+		err = 0;
 		/* counted once, by whichever side notes it first (rtsup.bpf.c) */
-		else if (!bpf_map_update_elem(bpf_map__fd(c->skel->maps.untracked), &key, &k,
-					      BPF_NOEXIST))
+		if (!bpf_map_update_elem(bpf_map__fd(c->skel->maps.untracked), &key, &k,
+					 BPF_NOEXIST))
 			c->untracked_scan++;
 	}
 	free(t);
@@ -281,9 +281,18 @@ int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct opt
 	c->clock_fd = c->epfd = -1;
 	c->batch_cap = COLLECTOR_BATCH;
 	c->batch_keys = calloc(c->batch_cap, sizeof(*c->batch_keys));
-	c->batch_vals = calloc(c->batch_cap, sizeof(*c->batch_vals));
-	if (!c->batch_keys || !c->batch_vals) {
+	c->batch_slots = calloc(c->batch_cap, sizeof(*c->batch_slots));
+	c->entry = calloc(1, sizeof(*c->entry));
+	if (!c->batch_keys || !c->batch_slots || !c->entry) {
 		fprintf(stderr, "rtsup-trace: out of memory\n");
+		return -1;
+	}
+	err = threadmem_open(&c->mem, bpf_map__fd(skel->maps.thread_mem),
+			     bpf_map__fd(skel->maps.threads), bpf_map__fd(skel->maps.thread_free),
+			     bpf_map__max_entries(skel->maps.thread_mem));
+	if (err) {
+		fprintf(stderr, "rtsup-trace: mapping the thread map's entries: %s\n",
+			strerror(-err));
 		return -1;
 	}
 	update_clocks(c);
@@ -663,16 +672,18 @@ static void take_rest(struct collector *c, struct thread_model *tm, __u32 tid,
 }
 
 /*
- * take - one thread's new kernel snapshot, a copy of its entry, into the
- * model; the copy's reader fields zeroed first (thread_rec_normalize)
+ * take - one thread's new kernel snapshot, a copy of its entry (short when
+ * sent: threadmem_copy_short), into the model; the copy's reader fields
+ * zeroed first (thread_rec_normalize). 1: a short copy the model cannot
+ * take (model_set_sent), nothing taken.
  */
-static int take(struct collector *c, __u32 tid, struct rtsup_thread *t,
+static int take(struct collector *c, __u32 tid, struct rtsup_thread *t, bool sent,
 		const struct rtsup_thread_rec *r, const struct rtsup_task_attrs *a)
 {
 	struct thread_model *tm = model_get(&c->model, tid, true);
 	bool fresh;
+	int moved;
 
-	c->map_copied++;
 	thread_rec_normalize(t);
 	if (!tm)
 		return -ENOMEM;
@@ -689,10 +700,42 @@ static int take(struct collector *c, __u32 tid, struct rtsup_thread *t,
 	/* its policy changed (thread_sched_seen): the attributes last read are not the task's */
 	if (!fresh && t->setsched != tm->cur.setsched)
 		tm->attrs_stale = true;
-	if (model_set(tm, t, c->bank) && !fresh)
+	moved = model_set_sent(tm, t, c->bank, sent);
+	if (moved < 0) {
+		c->map_short_refused++;
+		return 1;
+	}
+	if (sent)
+		c->map_short++;
+	else
+		c->map_copied++;
+	if (moved && !fresh)
 		c->map_moved++;	/* a first copy says nothing of the next (batch_read_cheaper) */
 	take_rest(c, tm, tid, t, r, a);
 	return 0;
+}
+
+/*
+ * take_entry - take tid's entry at slot (THREAD_NO_SLOT: where the thread
+ * map says), a short copy when its model can take one, else whole: 0, 1
+ * when it has none (reaped since it was named), or -errno
+ */
+static int take_entry(struct collector *c, __u32 tid, __u32 slot,
+		      const struct rtsup_thread_rec *r, const struct rtsup_task_attrs *a)
+{
+	struct thread_model *tm = model_get(&c->model, tid, false);
+	int err;
+
+	if (tm && model_takes_short(tm)) {
+		if (threadmem_copy_short(&c->mem, tid, slot, c->entry))
+			return 1;
+		err = take(c, tid, c->entry, true, r, a);
+		if (err != 1)
+			return err;
+	}
+	if (threadmem_copy(&c->mem, tid, slot, c->entry))
+		return 1;
+	return take(c, tid, c->entry, false, r, a);
 }
 
 /*
@@ -705,9 +748,9 @@ static int take_unchanged(struct collector *c, struct thread_model *tm, __u32 ti
 			  const struct rtsup_thread_rec *r, const struct rtsup_task_attrs *a)
 {
 	if (!tm || !tm->cur.first_seen) {
-		if (bpf_map_lookup_elem(bpf_map__fd(c->skel->maps.threads), &tid, c->batch_vals))
-			return 0;	/* gone since: as if never read */
-		return take(c, tid, c->batch_vals, r, a);
+		int err = take_entry(c, tid, THREAD_NO_SLOT, r, a);
+
+		return err > 0 ? 0 : err;	/* gone since: as if never read */
 	}
 	model_idle(tm);
 	take_rest(c, tm, tid, &tm->cur, r, a);
@@ -760,14 +803,9 @@ static long take_recs(void *ctx, char *p, size_t len)
 		/* records of 8-byte multiples from the buffer's front: aligned */
 		a = rec_attrs(&r, p + off);
 		c->map_tasks += a != NULL;
-		if (r.full) {
-			struct rtsup_thread *t = (void *)(p + off + thread_rec_len(&r) - sizeof(*t));
-
-			err = take(c, r.tid, t, &r, a);
-		} else {
-			err = take_same(c, r.tid, &r, a);
-		}
-		if (err)
+		/* take_entry's 1: reaped since, as if never read */
+		err = r.full ? take_entry(c, r.tid, r.slot, &r, a) : take_same(c, r.tid, &r, a);
+		if (err < 0)
 			return err;
 	}
 	return (long)off;
@@ -862,10 +900,8 @@ static int read_one_by_one(struct collector *c, int fd)
 		key = next;
 		prev = &key;
 		c->map_entries++;
-		/* deleted since its key was read: gone, like a key never read */
-		if (bpf_map_lookup_elem(fd, &key, c->batch_vals))
-			continue;
-		if (take(c, key, c->batch_vals, NULL, NULL))
+		/* take_entry's 1: deleted since its key was read, like a key never read */
+		if (take_entry(c, key, THREAD_NO_SLOT, NULL, NULL) < 0)
 			return -ENOMEM;
 	}
 	/* ENOENT: past the last key; anything else: the read stopped half-way */
@@ -876,16 +912,15 @@ static int read_one_by_one(struct collector *c, int fd)
 static int grow_batch(struct collector *c)
 {
 	__u32 cap = c->batch_cap * 2;
-	__u32 *k = realloc(c->batch_keys, cap * sizeof(*k));
-	struct rtsup_thread *v;
+	__u32 *k = realloc(c->batch_keys, cap * sizeof(*k)), *v;
 
 	if (!k)
 		return -1;
 	c->batch_keys = k;
-	v = realloc(c->batch_vals, cap * sizeof(*v));
+	v = realloc(c->batch_slots, cap * sizeof(*v));
 	if (!v)
 		return -1;
-	c->batch_vals = v;
+	c->batch_slots = v;
 	c->batch_cap = cap;
 	return 0;
 }
@@ -935,7 +970,7 @@ static int read_whole(struct collector *c, bool batch)
 	do {
 		n = c->batch_cap;
 		err = bpf_map_lookup_batch(fd, first ? NULL : &in, &out, c->batch_keys,
-					   c->batch_vals, &n, NULL);
+					   c->batch_slots, &n, NULL);
 		if (err && errno == ENOSPC && !n) {
 			/* one hash bucket holds more than the buffer: grow it, retry */
 			if (grow_batch(c))
@@ -951,9 +986,11 @@ static int read_whole(struct collector *c, bool batch)
 		}
 		for (i = 0; i < n; i++) {
 			c->map_entries++;
-			if (i + 1 < n)
+			if (i + 1 < n) {
 				model_prefetch(model_get(&c->model, c->batch_keys[i + 1], false));
-			if (take(c, c->batch_keys[i], &c->batch_vals[i], NULL, NULL))
+				threadmem_prefetch(&c->mem, c->batch_slots[i + 1]);
+			}
+			if (take_entry(c, c->batch_keys[i], c->batch_slots[i], NULL, NULL) < 0)
 				return -ENOMEM;
 		}
 		in = out;
@@ -970,23 +1007,23 @@ static int read_whole(struct collector *c, bool batch)
 static int read_named(struct collector *c)
 {
 	const struct tid_list *l[] = { &c->moved.now, &c->moved.again };
-	int fd = bpf_map__fd(c->skel->maps.threads), err;
 	struct thread_model *tm;
 	__u32 i, k, tid;
+	int err;
 
 	for (k = 0; k < 2; k++) {
 		for (i = 0; i < l[k]->n; i++) {
-			tid = l[k]->tid[i];
+			tid = l[k]->at[i].tid;
+			if (i + 1 < l[k]->n)
+				threadmem_prefetch(&c->mem, l[k]->at[i + 1].slot);
 			tm = model_get(&c->model, tid, false);
 			if (tm && seen_now(c, tm))
 				continue;
 			c->map_visited++;
-			if (bpf_map_lookup_elem(fd, &tid, c->batch_vals))
-				continue;
-			c->map_entries++;
-			err = take(c, tid, c->batch_vals, NULL, NULL);
-			if (err)
+			err = take_entry(c, tid, l[k]->at[i].slot, NULL, NULL);
+			if (err < 0)
 				return err;
+			c->map_entries += !err;	/* 1: reaped since it was named */
 		}
 	}
 	return take_kept(c);
@@ -1006,6 +1043,7 @@ static int read_threads(struct collector *c)
 	int err;
 
 	c->map_entries = c->map_copied = c->map_moved = c->map_visited = c->map_tasks = 0;
+	c->map_short = c->map_short_refused = 0;
 	c->map_batch = false;
 	/* a send the ring refused (full), a task that changed cgroups */
 	if (__atomic_exchange_n(&c->skel->bss->threads_moved_lost, 0, __ATOMIC_RELAXED) |
@@ -1136,12 +1174,11 @@ static void forget_sys(struct collector *c, const __u32 *tids, int n)
 }
 
 /* same_thread - does the kernel entry of tm's tid still belong to tm's thread? */
-static bool same_thread(struct collector *c, int fd, const struct thread_model *tm)
+static bool same_thread(struct collector *c, const struct thread_model *tm)
 {
-	/* batch_vals: a buffer of one entry at least, unused between reads */
-	if (bpf_map_lookup_elem(fd, &tm->tid, c->batch_vals))
+	if (threadmem_copy(&c->mem, tm->tid, THREAD_NO_SLOT, c->entry))
 		return true;	/* gone already: deleting it again does no harm */
-	return c->batch_vals->first_seen == tm->cur.first_seen;
+	return c->entry->first_seen == tm->cur.first_seen;
 }
 
 /* untracked_gone - an untracked thread (key: tid, value: tgid) that is gone */
@@ -1197,7 +1234,6 @@ static bool processes_due(const struct collector *c, int nlet)
 
 void collector_reap(struct collector *c)
 {
-	int fd = bpf_map__fd(c->skel->maps.threads);
 	__u32 *dead = malloc((c->model.n ? c->model.n : 1) * sizeof(*dead));
 	int i, j, ndead = 0, nlet = 0;
 
@@ -1214,9 +1250,9 @@ void collector_reap(struct collector *c)
 		 */
 		tm->reported_exit = true;
 		nlet++;
-		if (!same_thread(c, fd, tm))
+		if (!same_thread(c, tm))
 			continue;	/* a new thread has the tid already (add_thread) */
-		bpf_map_delete_elem(fd, &tm->tid);
+		threadmem_remove(&c->mem, tm->tid);
 		tid_release(c, tm->tid);
 		/* only if written: a storm's threads, dead before, cost no syscall */
 		if (tm->cfg_in_kernel) {
@@ -1335,7 +1371,9 @@ void collector_free(struct collector *c)
 	causes_free(&c->causes_life);
 	model_free(&c->model);
 	free(c->batch_keys);
-	free(c->batch_vals);
+	free(c->batch_slots);
+	free(c->entry);
+	threadmem_close(&c->mem);
 	iter_buf_free(&c->threads_out);
 	task_attrs_free(&c->attrs);
 	movedset_free(&c->moved);

@@ -12,6 +12,7 @@
 #include "collect/movedset.h"
 #include "collect/procfile.h"
 #include "collect/taskattrs.h"
+#include "collect/threadmem.h"
 #include "model/causes.h"
 #include "model/eventlog.h"
 #include "model/model.h"
@@ -72,14 +73,18 @@ struct collector {
 	__u64 start_ns;			/* monotonic start */
 	__u64 end_ns;			/* when the last sample ended its interval */
 	__u32 map_entries;		/* entries of the thread map at the last sample */
-	/* the thread map is read COLLECTOR_BATCH entries per syscall */
+	/* the thread map is read COLLECTOR_BATCH tids and slots per syscall */
 	__u32 *batch_keys;
-	struct rtsup_thread *batch_vals;
+	__u32 *batch_slots;
 	__u32 batch_cap;
+	struct threadmem mem;		/* the entries, copied in place (threadmem.h) */
+	struct rtsup_thread *entry;	/* the copy of one, taken */
 	bool no_batch;			/* the kernel has no batch operations */
 	/* or, where the kernel has its iterator, the entries that changed (threadread.h) */
 	struct iter_buf threads_out;
 	__u32 map_copied;		/* entries copied out whole at the last sample */
+	__u32 map_short;		/* ... short: the buckets that moved (threadmem.h) */
+	__u32 map_short_refused;	/* short copies the model could not take: copied whole */
 	__u32 map_moved;		/* entries whose bytes changed since an earlier copy */
 	__u32 map_visited;		/* entries the last sample's read looked at */
 	bool map_whole;			/* ... all of them: it walked the map (threadread.h) */

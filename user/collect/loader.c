@@ -15,6 +15,7 @@
 #include <bpf/btf.h>
 #include <bpf/libbpf.h>
 #include "collect/loader.h"
+#include "collect/threadmem.h"
 #include "rtsup.h"
 #include "can.h"	/* the skeleton's .bss holds can_if_slot */
 #include "rtfollow.h"
@@ -494,10 +495,14 @@ static bool tasks_start(struct loader *l)
 {
 	DECLARE_LIBBPF_OPTS(bpf_iter_attach_opts, opts);
 	union bpf_iter_link_info linfo = {};
-	struct rtsup_tasks_bpf *t = rtsup_tasks_bpf__open_and_load();
+	struct rtsup_tasks_bpf *t = rtsup_tasks_bpf__open();
 
 	l->tasks = t;
 	if (!t)
+		return false;
+	/* the entries are ours: the same map, not a copy of its definition */
+	if (bpf_map__reuse_fd(t->maps.thread_mem, bpf_map__fd(l->skel->maps.thread_mem)) ||
+	    rtsup_tasks_bpf__load(t))
 		return false;
 	linfo.map.map_fd = bpf_map__fd(l->skel->maps.threads);
 	opts.link_info = &linfo;
@@ -672,6 +677,8 @@ int loader_start(struct loader *l, const struct options *o)
 	for (i = 0; i < o->targets.ncomms; i++)
 		memcpy((char *)s->rodata->cfg_comms[i], o->targets.comms[i], RTSUP_COMM_LEN);
 	bpf_map__set_max_entries(s->maps.threads, o->max_threads);
+	bpf_map__set_max_entries(s->maps.thread_mem, o->max_threads);
+	bpf_map__set_max_entries(s->maps.thread_free, o->max_threads);
 	bpf_map__set_max_entries(s->maps.unsafe_sys, o->max_threads * 4);
 	bpf_map__set_max_entries(s->maps.thread_cfg, o->max_threads);
 	bpf_map__set_max_entries(s->maps.moved,
@@ -723,6 +730,13 @@ int loader_start(struct loader *l, const struct options *o)
 		print_verified(s->obj);
 	if (fill_sysclass(s) || (l->sys_per && !o->floor && link_sys_bodies(s)))
 		goto fail;
+	/* before any hook runs: every slot is free */
+	err = threadmem_fill(bpf_map__fd(s->maps.thread_free), o->max_threads);
+	if (err) {
+		fprintf(stderr, "rtsup-trace: filling the thread map's free slots failed: %s\n",
+			strerror(-err));
+		goto fail;
+	}
 	if (o->targets.cgroup) {
 		__u32 zero = 0;
 

@@ -6,29 +6,29 @@
 #include <bpf/libbpf.h>
 #include "collect/movedset.h"
 
-static int tid_push(struct tid_list *l, __u32 tid)
+static int tid_push(struct tid_list *l, __u32 tid, __u32 slot)
 {
 	if (l->n == l->cap) {
 		__u32 cap = l->cap ? l->cap * 2 : 256;
-		__u32 *t = realloc(l->tid, cap * sizeof(*t));
+		struct rtsup_moved_rec *t = realloc(l->at, cap * sizeof(*t));
 
 		if (!t)
 			return -ENOMEM;
-		l->tid = t;
+		l->at = t;
 		l->cap = cap;
 	}
-	l->tid[l->n++] = tid;
+	l->at[l->n++] = (struct rtsup_moved_rec){ .tid = tid, .slot = slot };
 	return 0;
 }
 
 static int on_moved(void *ctx, void *data, size_t len)
 {
-	__u32 tid;
+	struct rtsup_moved_rec r;
 
-	if (len < sizeof(tid))
+	if (len < sizeof(r))
 		return 0;
-	memcpy(&tid, data, sizeof(tid));
-	movedset_note(ctx, tid);
+	memcpy(&r, data, sizeof(r));
+	movedset_note(ctx, r.tid, r.slot);
 	return 0;
 }
 
@@ -39,9 +39,9 @@ int movedset_open(struct movedset *ms, int ring_fd)
 	return ms->rb ? 0 : -errno;
 }
 
-void movedset_note(struct movedset *ms, __u32 tid)
+void movedset_note(struct movedset *ms, __u32 tid, __u32 slot)
 {
-	if (tid_push(&ms->now, tid))
+	if (tid_push(&ms->now, tid, slot))
 		ms->err = -ENOMEM;
 }
 
@@ -72,7 +72,7 @@ void movedset_end(struct movedset *ms)
 void movedset_free(struct movedset *ms)
 {
 	ring_buffer__free(ms->rb);
-	free(ms->now.tid);
-	free(ms->again.tid);
+	free(ms->now.at);
+	free(ms->again.at);
 	memset(ms, 0, sizeof(*ms));
 }

@@ -9,11 +9,13 @@
 #define RTSUP_MOVEDSET_H
 
 #include <linux/types.h>
+#include "threadread.h"
 
 struct ring_buffer;
 
+/* the entries named: tid, and the slot it was at (THREAD_NO_SLOT: look it up) */
 struct tid_list {
-	__u32 *tid;
+	struct rtsup_moved_rec *at;
 	__u32 n, cap;
 };
 
@@ -27,7 +29,7 @@ struct movedset {
 /* movedset_open - read the ring of map fd ring_fd; -errno */
 int movedset_open(struct movedset *ms, int ring_fd);
 /* movedset_note - userspace wrote tid's entry (the start-up scan): due at the next read */
-void movedset_note(struct movedset *ms, __u32 tid);
+void movedset_note(struct movedset *ms, __u32 tid, __u32 slot);
 /*
  * movedset_begin - a read starts: *read_seq moves first (a hook that looks
  * an entry up from now on names it again), then the ring is drained;

@@ -34,6 +34,8 @@ struct health {
 	__u64 hook_runs_recovered;	/* of them, delimiter returns found otherwise */
 	struct health_map thread_map;
 	__u32 thread_map_copied;	/* of its entries, copied out whole at the last read */
+	__u32 thread_map_short;		/* ... short: the buckets that moved (threadmem.h) */
+	__u32 thread_map_short_refused;	/* short copies the model refused: copied whole */
 	__u32 thread_map_visited;	/* ... looked at by the last read */
 	bool thread_map_whole;		/* ... which walked the whole map (threadread.h) */
 	bool thread_map_batch;		/* ... in batches, not through the iterator */

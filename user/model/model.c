@@ -7,6 +7,7 @@
 #include <string.h>
 #include "model/model.h"
 #include "hist.h"
+#include "stats.h"
 
 /* clamp_bucket - the part [*lo, *hi] of bucket b inside [min, max]; false if none */
 static bool clamp_bucket(int b, __u64 min, __u64 max, __u64 *lo, __u64 *hi)
@@ -180,23 +181,16 @@ static void delta_range(const __u32 *cur, const __u32 *prev, int *lo, int *hi)
 	delta_within(cur, prev, 0, HIST_BUCKETS - 1, lo, hi);
 }
 
-/* banks_range - the buckets between the lowest and highest value of both banks of s */
-static void banks_range(const struct rtsup_metric_stats *s, int *lo, int *hi)
+/* moved_by - the values buckets [a, b] of cur gained since base (modulo 2^32, as delta_in) */
+static __u64 moved_by(const struct rtsup_metric_stats *cur, const struct rtsup_metric_stats *base,
+		      int a, int b)
 {
-	int i, a, b;
+	__u64 n = 0;
+	int k;
 
-	*lo = HIST_BUCKETS;
-	*hi = -1;
-	for (i = 0; i < 2; i++) {
-		if (s->win[i].min > s->win[i].max)
-			continue;	/* empty (minmax_reset) */
-		a = (int)hist_bucket(s->win[i].min);
-		b = (int)hist_bucket(s->win[i].max);
-		if (a < *lo)
-			*lo = a;
-		if (b > *hi)
-			*hi = b;
-	}
+	for (k = a; k <= b; k++)
+		n += (__u32)(cur->hist[k] - base->hist[k]);
+	return n;
 }
 
 /*
@@ -206,26 +200,50 @@ static void banks_range(const struct rtsup_metric_stats *s, int *lo, int *hi)
  * began (rtsup.h, "Interval windows"): between their lowest and highest
  * buckets. That holds when the buckets there moved by as many values as
  * the count did; when not (a copy taken while a hook wrote, a bank reset
- * since), every bucket is compared as before.
+ * since), every bucket is compared as before. A short copy (sent: it holds
+ * only those buckets) has no other bucket to compare: false then, the
+ * caller wants the entry whole.
  */
-static void moved_range(const struct rtsup_metric_stats *cur,
-			const struct rtsup_metric_stats *base, int *lo, int *hi)
+static bool moved_range(const struct rtsup_metric_stats *cur,
+			const struct rtsup_metric_stats *base, bool sent, int *lo, int *hi)
 {
-	__u64 n = 0;
-	int a, b, k;
+	int a, b;
 
 	if (!base) {
 		delta_range(cur->hist, NULL, lo, hi);
-		return;
+		return true;
 	}
-	banks_range(cur, &a, &b);
-	for (k = a; k <= b; k++)
-		n += (__u32)(cur->hist[k] - base->hist[k]);	/* modulo 2^32, as delta_in */
-	if (n != cur->count - base->count) {
+	metric_banks_range(cur, &a, &b);
+	if (moved_by(cur, base, a, b) != cur->count - base->count) {
+		if (sent)
+			return false;
 		delta_range(cur->hist, base->hist, lo, hi);
-		return;
+		return true;
 	}
 	delta_within(cur->hist, base->hist, a, b, lo, hi);
+	return true;
+}
+
+/*
+ * snapshot_torn - a copy of an entry taken while a hook wrote it: a
+ * metric's buckets do not sum to its count (metric_add moves both, and
+ * they wrap alike modulo 2^32). A short copy after it would keep the
+ * bucket the hook had yet to write out of the snapshot for good: the
+ * next copy is whole (model_takes_short).
+ */
+static bool snapshot_torn(const struct rtsup_thread *t)
+{
+	int i, b;
+
+	for (i = 0; i < RTSUP_M_NR; i++) {
+		__u32 n = 0;
+
+		for (b = 0; b < HIST_BUCKETS; b++)
+			n += t->m[i].hist[b];
+		if (n != (__u32)t->m[i].count)
+			return true;
+	}
+	return false;
 }
 
 /* nonzero_range - the buckets of h that are not 0 lie in [*lo, *hi] */
@@ -508,9 +526,12 @@ static void life_counts(const struct life_hist *l, int i, const __u32 *kern, __u
  * restart, which has no prev). Returns -1 when there is none: a thread
  * without cycles has empty buckets and needs no memory, and when out of
  * memory the kernel's buckets are used (a wrap in that interval is lost).
+ * A short copy t (sent: model_views_spans checked that prev is its base
+ * and the lifetime is there) whose buckets moved outside the ones it
+ * holds: -2, nothing counted.
  */
 static int life_add(struct thread_model *tm, const struct rtsup_thread *t,
-		    const struct rtsup_thread *prev)
+		    const struct rtsup_thread *prev, bool sent)
 {
 	struct life_hist *l = tm->life_hist;
 	int lo[RTSUP_M_NR], hi[RTSUP_M_NR], i, b;
@@ -537,7 +558,8 @@ static int life_add(struct thread_model *tm, const struct rtsup_thread *t,
 	/* no interval until it is written; then where each metric moved, and room */
 	win_clear(l);
 	for (i = 0; i < RTSUP_M_NR; i++) {
-		moved_range(&t->m[i], prev ? &prev->m[i] : NULL, &lo[i], &hi[i]);
+		if (!moved_range(&t->m[i], prev ? &prev->m[i] : NULL, sent, &lo[i], &hi[i]))
+			return -2;
 		if (lo[i] <= hi[i] && win_room(l, i, hi[i] - lo[i] + 1))
 			return -1;
 	}
@@ -601,33 +623,67 @@ static bool life_view_kept(const struct life_hist *l, const struct rtsup_metric_
 }
 
 /*
- * model_views_spans - model_views; *spans says that the buckets of t
- * differ from prev's only within life_add's interval spans
+ * sent_same - short copy t holds the same bytes as prev where it holds any
+ * (the buckets it does not hold are prev's, life_add checks that)
  */
-static bool model_views_spans(struct thread_model *tm, const struct rtsup_thread *t,
-			      const struct rtsup_thread *prev, __u32 bank, bool *spans)
+static bool sent_same(const struct rtsup_thread *prev, const struct rtsup_thread *t)
+{
+	int i, a, b;
+
+	if (memcmp(prev, t, offsetof(struct rtsup_thread, m)))
+		return false;
+	for (i = 0; i < RTSUP_M_NR; i++) {
+		if (memcmp(&prev->m[i], &t->m[i], offsetof(struct rtsup_metric_stats, hist)))
+			return false;
+		metric_banks_range(&t->m[i], &a, &b);
+		if (a <= b && memcmp(&prev->m[i].hist[a], &t->m[i].hist[a],
+				     (size_t)(b - a + 1) * sizeof(t->m[i].hist[0])))
+			return false;
+	}
+	return true;
+}
+
+bool model_takes_short(const struct thread_model *tm)
+{
+	return tm->cur.first_seen && tm->life_hist && !tm->cur_torn;
+}
+
+/*
+ * model_views_spans - model_views; *spans says that the buckets of t
+ * differ from prev's only within life_add's interval spans. A short copy
+ * t (sent): -1 when it cannot be taken, before anything of the model but
+ * the interval's spans moved.
+ */
+static int model_views_spans(struct thread_model *tm, const struct rtsup_thread *t,
+			     const struct rtsup_thread *prev, __u32 bank, bool *spans, bool sent)
 {
 	/* the lifetime views were computed from life_hist by the last call */
 	bool had_life = tm->life_hist != NULL;
 	const struct rtsup_thread *base;
 	struct life_hist *l;
 	__u64 h[HIST_BUCKETS];
-	int i;
+	int i, err;
 
+	/* a short copy's other buckets are prev's: counted from prev, into a lifetime */
+	if (sent && (!prev || !model_takes_short(tm) || snapshot_base(t, prev) != prev))
+		return -1;
 	/*
 	 * the same bytes as the last snapshot (a parked thread): an empty
 	 * interval, and the lifetime views the last call made from them
 	 */
-	if (prev && !memcmp(prev, t, snapshot_bytes())) {
+	if (prev && (sent ? sent_same(prev, t) : !memcmp(prev, t, snapshot_bytes()))) {
 		model_idle(tm);
-		return false;
+		return 0;
 	}
 	tm->win_idle = false;	/* written below */
-	if (life_add(tm, t, prev)) {	/* no lifetime counts: the kernel's buckets */
+	err = life_add(tm, t, prev, sent);
+	if (err && sent)	/* no kernel's buckets to fall back on */
+		return -1;
+	if (err) {	/* no lifetime counts: the kernel's buckets */
 		span_window(t, prev, bank, &tm->win);
 		span_life(t, &tm->life);
 		tm->life_due = 0;	/* percentiles and all, from them */
-		return true;
+		return 1;
 	}
 	l = tm->life_hist;
 	base = snapshot_base(t, prev);
@@ -645,7 +701,7 @@ static bool model_views_spans(struct thread_model *tm, const struct rtsup_thread
 		view_scalars(&t->m[i], &tm->life.m[i]);
 		tm->life_due |= 1u << i;	/* from l and t, which model_set keeps as cur */
 	}
-	return true;
+	return 1;
 }
 
 void model_life_settle(struct thread_model *tm)
@@ -678,7 +734,7 @@ bool model_views(struct thread_model *tm, const struct rtsup_thread *t,
 {
 	bool spans;
 
-	return model_views_spans(tm, t, prev, bank, &spans);
+	return model_views_spans(tm, t, prev, bank, &spans, false) > 0;
 }
 
 /*
@@ -700,17 +756,26 @@ static void snapshot_take_moved(struct rtsup_thread *cur, const struct rtsup_thr
 	}
 }
 
-bool model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank)
+int model_set_sent(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank, bool sent)
 {
 	const struct rtsup_thread *prev = tm->cur.first_seen ? &tm->cur : NULL;
-	bool spans = false, moved = model_views_spans(tm, t, prev, bank, &spans);
+	bool spans = false;
+	int moved = model_views_spans(tm, t, prev, bank, &spans, sent);
 
-	/* not moved: the same bytes; spans: the buckets moved within them */
+	/* not moved: the same bytes; spans: the buckets moved within them (always, sent) */
 	if (spans)
 		snapshot_take_moved(&tm->cur, t, tm->life_hist);
-	else if (moved)
+	else if (moved > 0)
 		tm->cur = *t;
+	/* a short copy moves buckets that sum as the counts moved: torn stays as it was */
+	if (moved > 0 && !sent)
+		tm->cur_torn = snapshot_torn(t);
 	return moved;
+}
+
+bool model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank)
+{
+	return model_set_sent(tm, t, bank, false) > 0;
 }
 
 void model_idle(struct thread_model *tm)

@@ -110,6 +110,7 @@ struct thread_model {
 	enum level worst;		/* worst level ever reached */
 	__u64 dead_seq;			/* order of death, set by model_prune_dead */
 	bool win_idle;		/* win is empty (model_idle), as is life_hist's interval */
+	bool cur_torn;		/* cur's buckets do not sum to its counts (snapshot_torn) */
 	__u8 life_due;		/* metrics whose life percentiles wait (model_life_settle) */
 	struct rtsup_thread cur;	/* the last snapshot of the kernel entry */
 	/*
@@ -192,6 +193,20 @@ void span_window(const struct rtsup_thread *cur, const struct rtsup_thread *prev
  * attribution state, which the model does not keep: snapshot_bytes).
  */
 bool model_set(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank);
+/*
+ * model_takes_short - can tm take a short copy of its entry: one that
+ * holds its fields but of its buckets only those between the lowest and
+ * highest values of each metric's interval banks (metric_banks_range)?
+ * Only after a whole snapshot that was not torn, with a lifetime of counts.
+ */
+bool model_takes_short(const struct thread_model *tm);
+/*
+ * model_set_sent - model_set from t, a short copy when sent: 1 moved, 0
+ * the same, -1 when the model cannot take it and wants the entry whole,
+ * nothing taken (statistics restarted since, buckets moved outside the
+ * ones it holds: a copy taken while a hook wrote, a bank reset before it)
+ */
+int model_set_sent(struct thread_model *tm, const struct rtsup_thread *t, __u32 bank, bool sent);
 /*
  * model_life_counts - metric m's lifetime bucket counts into h[*lo..*hi]
  * (every other count is 0, and h is not written there); false when the

@@ -450,6 +450,8 @@ static json_t *json_thread_map(const struct health *h)
 
 	if (json_is_object(o)) {
 		json_object_set_new(o, "copied", json_integer(h->thread_map_copied));
+		json_object_set_new(o, "short", json_integer(h->thread_map_short));
+		json_object_set_new(o, "short_refused", json_integer(h->thread_map_short_refused));
 		json_object_set_new(o, "visited", json_integer(h->thread_map_visited));
 		json_object_set_new(o, "whole", json_boolean(h->thread_map_whole));
 		json_object_set_new(o, "batch", json_boolean(h->thread_map_batch));

@@ -166,25 +166,34 @@ static void test_parked_entry_written_only_for_its_task(void **state)
 	assert_true(thread_rec_skipped(read_once(&t), THREAD_TASK_UNREAD));
 }
 
-/* a record's length: the attributes and the entry follow it when it says so */
+/* a record's length: the attributes follow it when it says so; the entry never does */
 static void test_rec_len(void **state)
 {
-	struct rtsup_thread_rec r = { .tid = 5 };
+	struct rtsup_thread_rec r = { .tid = 5, .slot = 3 };
 
 	(void)state;
-	assert_int_equal(sizeof(r) % 8, 0);
+	assert_int_equal(sizeof(r) % 8, 0);	/* the attributes stay aligned */
 	assert_int_equal(sizeof(struct rtsup_task_attrs) % 8, 0);
-	assert_int_equal(sizeof(struct rtsup_thread) % 8, 0);	/* records stay aligned */
 	assert_int_equal(thread_rec_len(&r), sizeof(r));
 	r.task = THREAD_TASK_GONE;
 	assert_int_equal(thread_rec_len(&r), sizeof(r));
 	r.task = THREAD_TASK_ATTRS;
 	assert_int_equal(thread_rec_len(&r), sizeof(r) + sizeof(struct rtsup_task_attrs));
-	r.full = 1;
-	assert_int_equal(thread_rec_len(&r), sizeof(r) + sizeof(struct rtsup_task_attrs) +
-					     sizeof(struct rtsup_thread));
+	r.full = 1;	/* the collector copies it from thread_mem */
+	assert_int_equal(thread_rec_len(&r), sizeof(r) + sizeof(struct rtsup_task_attrs));
 	r.task = THREAD_TASK_UNREAD;
-	assert_int_equal(thread_rec_len(&r), sizeof(r) + sizeof(struct rtsup_thread));
+	assert_int_equal(thread_rec_len(&r), sizeof(r));
+}
+
+/* a slot of thread_mem is one of its n elements; THREAD_NO_SLOT never is */
+static void test_slot_ok(void **state)
+{
+	(void)state;
+	assert_true(thread_slot_ok(0, 4));
+	assert_true(thread_slot_ok(3, 4));
+	assert_false(thread_slot_ok(4, 4));
+	assert_false(thread_slot_ok(THREAD_NO_SLOT, 4096));
+	assert_false(thread_slot_ok(0, 0));
 }
 
 /* a hook's lookup names the entry in the ring once a read: as thread_entry does */
@@ -318,6 +327,7 @@ int main(void)
 		cmocka_unit_test(test_task_read_spread_over_tids),
 		cmocka_unit_test(test_parked_entry_written_only_for_its_task),
 		cmocka_unit_test(test_rec_len),
+		cmocka_unit_test(test_slot_ok),
 		cmocka_unit_test(test_moved_named_once_a_read),
 		cmocka_unit_test(test_read_whole_when),
 		cmocka_unit_test(test_read_tasks_which),

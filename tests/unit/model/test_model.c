@@ -15,6 +15,7 @@
 #include "model/model.h"
 #include "stats.h"
 #include "hist.h"
+#include "threadread.h"
 
 #define US	1000ULL
 #define MS	1000000ULL
@@ -732,6 +733,128 @@ static void test_model_why_alone_is_no_change(void **state)
 	model_free(&m);
 }
 
+/* flip - interval e begins: its bank of every metric reset, as cycle_epoch does */
+static void flip(struct rtsup_thread *t, __u32 e)
+{
+	int i;
+
+	for (i = 0; i < RTSUP_M_NR; i++)
+		minmax_reset(&t->m[i].win[RTSUP_BANK(e)]);
+}
+
+/* short_of - a short copy of t (thread_copy_short) over a buffer of other bytes */
+static void short_of(struct rtsup_thread *out, const struct rtsup_thread *t)
+{
+	memset(out, 0xab, sizeof(*out));
+	thread_copy_short(out, t);
+}
+
+/* views_equal - the interval and lifetime views of two models, percentiles and all */
+static void views_equal(struct thread_model *a, struct thread_model *b)
+{
+	model_life_settle(a);
+	model_life_settle(b);
+	assert_memory_equal(&a->win, &b->win, sizeof(a->win));
+	assert_memory_equal(&a->life, &b->life, sizeof(a->life));
+	assert_memory_equal(&a->cur, &b->cur, offsetof(struct rtsup_thread, why));
+}
+
+/*
+ * A short copy (the collector's in place: threadmem.h) is taken as the
+ * whole entry would be: interval after interval, in both banks, values
+ * in new buckets, the same views and snapshot, and an interval without
+ * a value is no change.
+ */
+static void test_model_short_copy_as_whole(void **state)
+{
+	struct tfx *t = *state;
+	struct model m = { 0 };
+	struct thread_model *whole = model_get(&m, 1, true), *part = model_get(&m, 2, true);
+	static const __u64 exec[] = { 100 * US, 3 * MS, 40 * US, 900 * US, 100 * US };
+	__u32 e;
+
+	assert_non_null(whole);
+	assert_non_null(part);
+	t->cur.first_seen = 7;
+	add_cycles(&t->cur, 5, 100 * US, 0);
+	assert_false(model_takes_short(part));	/* nothing to take the other buckets from */
+	assert_true(model_set(whole, &t->cur, 0));
+	assert_true(model_set(part, &t->cur, 0));
+	for (e = 1; e < 1 + sizeof(exec) / sizeof(exec[0]); e++) {
+		flip(&t->cur, e);
+		add_cycles(&t->cur, (int)e, exec[e - 1], e);
+		assert_true(model_takes_short(part));
+		short_of(&t->prev, &t->cur);
+		assert_int_equal(model_set_sent(part, &t->prev, e, true), 1);
+		assert_true(model_set(whole, &t->cur, e));
+		views_equal(whole, part);
+	}
+	short_of(&t->prev, &t->cur);
+	assert_int_equal(model_set_sent(part, &t->prev, e, true), 0);
+	assert_int_equal(part->win.cycles, 0);
+	model_free(&m);
+}
+
+/*
+ * A short copy whose buckets do not account for its counts (a value
+ * outside the banks' buckets: a bank reset before the copy, a hook
+ * writing during it) is refused, and nothing of the model moves: the
+ * whole entry taken next gives what a whole entry always gave.
+ */
+static void test_model_short_copy_refused(void **state)
+{
+	struct tfx *t = *state;
+	struct model m = { 0 };
+	struct thread_model *whole = model_get(&m, 1, true), *part = model_get(&m, 2, true);
+	struct rtsup_metric_stats *s = &t->cur.m[RTSUP_M_EXEC];
+
+	assert_non_null(whole);
+	assert_non_null(part);
+	t->cur.first_seen = 7;
+	add_cycles(&t->cur, 5, 100 * US, 0);
+	model_set(whole, &t->cur, 0);
+	model_set(part, &t->cur, 0);
+	flip(&t->cur, 1);
+	add_cycles(&t->cur, 3, 200 * US, 1);
+	/* a value of 5 ms the banks do not hold (its bank reset since) */
+	s->hist[hist_bucket(5 * MS)]++;
+	s->count++;
+	s->sum += 5 * MS;
+	short_of(&t->prev, &t->cur);
+	assert_int_equal(model_set_sent(part, &t->prev, 1, true), -1);
+	assert_true(model_set(part, &t->cur, 1));
+	assert_true(model_set(whole, &t->cur, 1));
+	views_equal(whole, part);
+	assert_int_equal(part->win.m[RTSUP_M_EXEC].count, 4);
+	model_free(&m);
+}
+
+/*
+ * A whole copy taken while a hook wrote (a count without its bucket yet)
+ * is torn: the next copy is whole too, or that bucket would stay out of
+ * the snapshot for good. Once a whole copy is not torn, short ones again.
+ */
+static void test_model_torn_copy_takes_no_short(void **state)
+{
+	struct tfx *t = *state;
+	struct model m = { 0 };
+	struct thread_model *tm = model_get(&m, 1, true);
+	struct rtsup_metric_stats *s = &t->cur.m[RTSUP_M_EXEC];
+	__u32 b = hist_bucket(100 * US);
+
+	assert_non_null(tm);
+	t->cur.first_seen = 7;
+	add_cycles(&t->cur, 5, 100 * US, 0);
+	s->hist[b]--;	/* the hook had yet to write it */
+	model_set(tm, &t->cur, 0);
+	assert_false(model_takes_short(tm));
+	s->hist[b]++;
+	model_set(tm, &t->cur, 0);
+	assert_true(model_takes_short(tm));
+	assert_int_equal(tm->life.m[RTSUP_M_EXEC].count, 5);
+	model_free(&m);
+}
+
 /*
  * What the kernel counted before the thread's first cycle (a snapshot
  * without cycles keeps no lifetime of its own) is in the lifetime once one
@@ -1053,6 +1176,9 @@ int main(void)
 		TS(test_model_views_follow_moving_buckets),
 		TS(test_model_buckets_outside_the_banks),
 		TS(test_model_why_alone_is_no_change),
+		TS(test_model_short_copy_as_whole),
+		TS(test_model_short_copy_refused),
+		TS(test_model_torn_copy_takes_no_short),
 		TS(test_model_idle_snapshot_keeps_life_views),
 		TS(test_model_life_holds_counts_before_the_first_cycle),
 		M(test_model_get_sorted),
