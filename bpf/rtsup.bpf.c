@@ -107,6 +107,8 @@ __u64 wakemask[RTSUP_TIDMASK_WORDS];	/* its next wakeup time may be read */
 __u32 threads_moved_seq;	/* moved at the start of each read (0: none yet, whole) */
 __u32 threads_moved_lost;	/* a send failed: the next read walks the whole map */
 __u32 threads_attrs_moved;	/* a task changed cgroups: the same, its tasks read too */
+/* moves at each write of unsafe_sys: the collector walks that map only then */
+__u32 unsafe_sys_gen;
 /* The --can interfaces, followed by userspace when one comes back (can.h) */
 struct rtsup_can_watch can_watch[RTSUP_CAN_WATCH];
 
@@ -955,6 +957,8 @@ static __always_inline void count_sys(struct rtsup_thread *t, __u32 nr, __u64 n)
 		__sync_fetch_and_add(cnt, n);
 	else if (bpf_map_update_elem(&unsafe_sys, &k, &n, BPF_NOEXIST))
 		count(RTSUP_C_SYS_FULL);
+	/* after the write: a walk that saw the new value sees the count */
+	__sync_fetch_and_add(&unsafe_sys_gen, 1);
 }
 
 /* flush_sys - the finished cycle's unsafe syscalls, by number */

@@ -381,6 +381,26 @@ static void read_counters(struct collector *c)
 	}
 }
 
+/*
+ * unsafe_sys_due - must this sample walk unsafe_sys? A walk of the hash
+ * map reads all its buckets however few entries it holds (16384 by
+ * default, a fortieth of the loop's CPU with 900 parked threads): only
+ * when a hook wrote it since the last walk (unsafe_sys_gen), when the last
+ * walk found an entry of a thread the model did not hold yet or a thread's
+ * mode moved since (take: its keys of the new mode count, not the old),
+ * and every THREAD_TASK_EVERY-th sample as a net.
+ */
+static bool unsafe_sys_due(struct collector *c)
+{
+	__u32 gen = __atomic_load_n(&c->skel->bss->unsafe_sys_gen, __ATOMIC_ACQUIRE);
+	bool due = gen != c->unsafe_sys_seen || c->unsafe_sys_pending ||
+		   c->sample_seq % THREAD_TASK_EVERY == 0;
+
+	/* before the walk: a write during it makes the next sample walk again */
+	c->unsafe_sys_seen = gen;
+	return due;
+}
+
 /* read_unsafe_sys - per-syscall unsafe counts into the model */
 static void read_unsafe_sys(struct collector *c)
 {
@@ -389,14 +409,19 @@ static void read_unsafe_sys(struct collector *c)
 	struct thread_model *tm;
 	__u64 n;
 
+	if (!unsafe_sys_due(c))
+		return;
+	c->unsafe_sys_pending = false;
 	while (!bpf_map_get_next_key(fd, prev, &next)) {
 		key = next;
 		prev = &key;
 		if (bpf_map_lookup_elem(fd, &key, &n))
 			continue;
 		tm = model_get(&c->model, key.tid, false);
+		if (!tm)
+			c->unsafe_sys_pending = true;	/* its model may come at the next read */
 		/* counts of the start-up phase stay out of a delimiter thread */
-		if (tm && key.mode == cycle_sys_mode(&tm->cur.cs))
+		else if (key.mode == cycle_sys_mode(&tm->cur.cs))
 			model_sys_set(tm, key.nr, n);
 	}
 }
@@ -700,6 +725,9 @@ static int take(struct collector *c, __u32 tid, struct rtsup_thread *t, bool sen
 	/* its policy changed (thread_sched_seen): the attributes last read are not the task's */
 	if (!fresh && t->setsched != tm->cur.setsched)
 		tm->attrs_stale = true;
+	/* its unsafe_sys keys of another mode count now (read_unsafe_sys) */
+	if (!fresh && cycle_sys_mode(&t->cs) != cycle_sys_mode(&tm->cur.cs))
+		c->unsafe_sys_pending = true;
 	moved = model_set_sent(tm, t, c->bank, sent);
 	if (moved < 0) {
 		c->map_short_refused++;
@@ -880,7 +908,7 @@ static int take_kept(struct collector *c)
 	for (i = 0; i < c->model.n; i++) {
 		tm = c->model.t[i];
 		if (i + 1 < c->model.n)
-			model_prefetch(c->model.t[i + 1]);
+			model_prefetch_kept(c->model.t[i + 1]);
 		if (seen_now(c, tm) || tm->reported_exit)
 			continue;
 		c->map_entries++;

@@ -78,6 +78,8 @@ struct collector {
 	__u32 *batch_slots;
 	__u32 batch_cap;
 	struct threadmem mem;		/* the entries, copied in place (threadmem.h) */
+	__u32 unsafe_sys_seen;		/* unsafe_sys_gen at the last walk of unsafe_sys */
+	bool unsafe_sys_pending;	/* ... which found a thread the model did not hold */
 	struct rtsup_thread *entry;	/* the copy of one, taken */
 	bool no_batch;			/* the kernel has no batch operations */
 	/* or, where the kernel has its iterator, the entries that changed (threadread.h) */

@@ -811,6 +811,20 @@ void model_prefetch(const struct thread_model *tm)
 		__builtin_prefetch((const char *)&tm->win + o, 1);
 }
 
+void model_prefetch_kept(const struct thread_model *tm)
+{
+	size_t o;
+
+	if (!tm)
+		return;
+	for (o = 0; o < offsetof(struct thread_model, cur); o += 64)
+		__builtin_prefetch((const char *)tm + o, 1);
+	__builtin_prefetch(&tm->cur.tgid);
+	__builtin_prefetch(&tm->cur.exited);
+	__builtin_prefetch(&tm->cur.rt);
+	__builtin_prefetch(&tm->win);
+}
+
 /* find - binary search in the tid-sorted array */
 static int find(const struct model *m, __u32 tid, int *pos)
 {

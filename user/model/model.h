@@ -244,6 +244,12 @@ struct thread_model *model_get(struct model *m, __u32 tid, bool create);
  * for its misses one after the other
  */
 void model_prefetch(const struct thread_model *tm);
+/*
+ * model_prefetch_kept - the same for a thread kept as it was (its entry
+ * did not move): the few lines take_kept's pass reads, not the 32 a
+ * snapshot reads (900 parked threads an interval)
+ */
+void model_prefetch_kept(const struct thread_model *tm);
 /* model_sort - every thread in tid order, for the outputs (pointers into t change) */
 void model_sort(struct model *m);
 /*
