@@ -726,8 +726,6 @@ int loader_start(struct loader *l, const struct options *o)
 				"(run with -v for the verifier's log)\n", strerror(-err));
 		goto fail;
 	}
-	if (o->verbose)
-		print_verified(s->obj);
 	if (fill_sysclass(s) || (l->sys_per && !o->floor && link_sys_bodies(s)))
 		goto fail;
 	/* before any hook runs: every slot is free */
@@ -778,6 +776,9 @@ int loader_start(struct loader *l, const struct options *o)
 			strerror(-err));
 		goto fail;
 	}
+	/* the start that stands: one a refused piece made us give up is not it */
+	if (o->verbose)
+		print_verified(s->obj);
 	/* BPF statistics cost two clock reads per program run machine-wide:
 	 * the main loop switches them on only for its sampling windows */
 	return 0;
