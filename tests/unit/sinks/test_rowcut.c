@@ -4,6 +4,7 @@
 #include <stddef.h>
 #include <setjmp.h>
 #include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 #include <cmocka.h>
 
@@ -43,6 +44,60 @@ static void test_rowcut_worst_n_of_many(void **state)
 		int want[10] = { 3, 6, 13, 20, 27, 34, 41, 48, 500, 900 };
 
 		assert_memory_equal(show, want, sizeof(want));
+	}
+}
+
+static const struct rowcut_row *ref_rows;
+
+/* ref_worse - the order rowcut_pick's cut is by (rowcut.h), written again */
+static int ref_worse(const void *a, const void *b)
+{
+	int i = *(const int *)a, j = *(const int *)b;
+	const struct rowcut_row *x = &ref_rows[i], *y = &ref_rows[j];
+
+	if (x->misses != y->misses)
+		return x->misses > y->misses ? -1 : 1;
+	if (x->unsafe != y->unsafe)
+		return x->unsafe > y->unsafe ? -1 : 1;
+	if (x->lat_max_ns != y->lat_max_ns)
+		return x->lat_max_ns > y->lat_max_ns ? -1 : 1;
+	return i - j;
+}
+
+static int ref_index(const void *a, const void *b)
+{
+	return *(const int *)a - *(const int *)b;
+}
+
+/*
+ * the cut keeps what a sort of every row would: random rows with many ties
+ * (most alike, as parked threads are), every top from 0 to past n
+ */
+static void test_rowcut_same_as_a_sort(void **state)
+{
+	static int want[N];
+	unsigned seed = 1;
+	int round, i, n, cut, top, nrows;
+
+	for (round = 0; round < 40; round++) {
+		nrows = 1 + round * 25;
+		for (i = 0; i < nrows; i++) {
+			seed = seed * 1103515245u + 12345u;
+			rows[i] = (struct rowcut_row){ .misses = (seed >> 16) % 7 == 0 ? (seed >> 8) % 3 : 0,
+				.unsafe = (seed >> 20) % 5 == 0 ? (seed >> 4) % 2 : 0,
+				.lat_max_ns = (seed >> 12) % 4 };
+		}
+		for (top = 0; top <= nrows + 1; top += 1 + nrows / 7) {
+			for (i = 0; i < nrows; i++)
+				want[i] = i;
+			ref_rows = rows;
+			qsort(want, nrows, sizeof(*want), ref_worse);
+			n = top < nrows ? top : nrows;
+			qsort(want, n, sizeof(*want), ref_index);
+			assert_int_equal(rowcut_pick(rows, nrows, top, false, show, order, &cut), n);
+			assert_int_equal(cut, nrows - n);
+			assert_memory_equal(show, want, n * sizeof(*want));
+		}
 	}
 }
 
@@ -100,6 +155,7 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test_setup(test_rowcut_worst_n_of_many, setup),
+		cmocka_unit_test_setup(test_rowcut_same_as_a_sort, setup),
 		cmocka_unit_test_setup(test_rowcut_not_ok_always, setup),
 		cmocka_unit_test_setup(test_rowcut_all_and_skip, setup),
 		cmocka_unit_test_setup(test_rowcut_active, setup),
