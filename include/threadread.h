@@ -137,10 +137,16 @@ RTSUP_INLINE int thread_moved_due(__u32 moved_seq, __u32 read_seq)
  * the scheduler just read, for targets only. A parked thread has no
  * switch-out: its changes wait for the whole read, as before.
  */
+/* thread_sched_word - what thread_sched_seen keeps of a switch-out's attributes */
+RTSUP_INLINE __u32 thread_sched_word(__u32 policy, __u32 rt_priority, __u32 nr_cpus)
+{
+	return policy << 28 | (rt_priority & 0xff) << 20 | (nr_cpus & 0xfffff);
+}
+
 RTSUP_INLINE void thread_sched_seen(struct rtsup_thread *t, __u32 policy, __u32 rt_priority,
 				    __u32 nr_cpus)
 {
-	__u32 v = policy << 28 | (rt_priority & 0xff) << 20 | (nr_cpus & 0xfffff);
+	__u32 v = thread_sched_word(policy, rt_priority, nr_cpus);
 
 	if (t->sched_seen != v) {
 		t->sched_seen = v;
@@ -215,6 +221,28 @@ RTSUP_INLINE __u32 thread_read_tasks(int moved_ok, __u64 seq, int forced)
 	return thread_read_all(seq, forced) ? THREAD_TASKS_ALL : THREAD_TASKS_NONE;
 }
 
+/*
+ * Without bpf_task_from_pid (before 6.2), or where the kernel refuses the
+ * thread map's iterator (EPERM at load on some kernels, an empty one too),
+ * the targets' attributes come from the task iterator (attrs_task): a walk
+ * of every task on the machine. thread_walk_tasks - does the sample seq
+ * take that walk? As the thread map's iterator reads every task's
+ * (thread_read_tasks): at the reads that must see every entry
+ * (thread_read_all, forced: a send to the ring lost, a cgroup move), and
+ * between them the attributes last read are kept until the thread's
+ * switch-outs say they moved (thread_sched_seen). Also when more threads
+ * had none to keep at the last sample than THREAD_WALK_ASKS (a storm of
+ * new ones, each asked of the kernel: three syscalls and a /proc read),
+ * and at every sample without the ring. The walk every sample was a third
+ * of rtsup-trace's CPU with 100 running and 900 parked threads.
+ */
+#define THREAD_WALK_ASKS	64
+
+RTSUP_INLINE int thread_walk_tasks(int moved_ok, __u64 seq, int forced, __u32 asked)
+{
+	return !moved_ok || thread_read_all(seq, forced) || asked > THREAD_WALK_ASKS;
+}
+
 #ifndef __bpf__
 #include <stddef.h>
 #include <string.h>
@@ -240,6 +268,25 @@ static inline void thread_copy_short(struct rtsup_thread *out, const struct rtsu
 			memcpy(&out->m[i].hist[a], &t->m[i].hist[a],
 			       (size_t)(b - a + 1) * sizeof(t->m[i].hist[0]));
 	}
+}
+#endif
+
+#ifndef __bpf__
+/*
+ * thread_attrs_as_seen - attributes a, read of the task, are what its
+ * last switch-out saw (sched_seen): a setsched that moved since they were
+ * read moved nothing they hold. A thread's first switch-out under the
+ * tracer moves it from unknown (0), its attributes as they were: a thread
+ * parked when the tracer started and woken later was asked of the kernel
+ * at each sample until the next whole read. Userspace only.
+ */
+static inline int thread_attrs_as_seen(__u32 sched_seen, const struct rtsup_task_attrs *a)
+{
+	__u32 i, n = 0;
+
+	for (i = 0; i < a->cpu_words && i < RTSUP_ATTR_CPU_WORDS; i++)
+		n += (__u32)__builtin_popcountll(a->cpus[i]);
+	return sched_seen == thread_sched_word((__u32)a->policy, a->rt_priority, n);
 }
 #endif
 
@@ -273,6 +320,17 @@ RTSUP_INLINE int thread_copy_due(__u32 gen, __u32 *seen, __u32 *again)
 		return 1;
 	}
 	return 0;
+}
+
+/*
+ * thread_copied - the reader copied an entry of generation gen (a read
+ * the iterator had no say in): its fields as thread_copy_due leaves them,
+ * so that the rule says when the next copy is due
+ */
+RTSUP_INLINE void thread_copied(__u32 gen, __u32 *seen, __u32 *again)
+{
+	*again = *seen != gen + 1;
+	*seen = gen + 1;
 }
 
 /*

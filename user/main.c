@@ -264,6 +264,8 @@ static void take_health(struct supervisor *s, const struct collector *c, const s
 	h->thread_map_whole = c->map_whole;
 	h->thread_map_batch = c->map_batch;
 	h->thread_map_tasks = c->map_tasks;
+	h->task_walk = c->attrs_walked;
+	h->tasks_asked = c->attrs_asked;
 	h->thread_map.capacity = c->o->max_threads;
 	if (s->can) {
 		h->can_id_map.entries = s->can->n;
@@ -411,6 +413,7 @@ static int run_live(struct options *o, struct supervisor *s)
 		goto out;
 	c.tasks = l.tasks;
 	c.sys_hooks = l.sys_per ? "per-syscall" : "raw_syscalls";
+	c.task_attrs = l.tasks ? "thread_map" : l.skel->links.attrs_task ? "task_walk" : "asked";
 	if (sinks_open(&sk, o, s, &c))
 		goto out;
 	if (o->can) {

@@ -342,6 +342,11 @@ def test_max_threads_reached(tmp_path):
     # every task, or none (threadread.h, thread_read_tasks)
     batch, tasks = fill.pop("batch"), fill.pop("tasks")
     assert tasks in (0, 4) and (whole or (not batch and tasks == 0)), h
+    # the task iterator walks every task only where the thread map's iterator
+    # reads none (thread_walk_tasks); of the 4, those asked of the kernel one by one
+    walk, asked = fill.pop("task_walk"), fill.pop("tasks_asked")
+    assert not walk or summary["supervisor"]["task_attrs"] == "task_walk", summary["supervisor"]
+    assert 0 <= asked <= 4, h
     assert fill == {"entries": 4, "capacity": 4, "fill_pct": 100.0, "near_full": True}, h
     assert not h["ok"]
     # every report carries it, and the counter never goes back

@@ -282,8 +282,9 @@ int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct opt
 	c->batch_cap = COLLECTOR_BATCH;
 	c->batch_keys = calloc(c->batch_cap, sizeof(*c->batch_keys));
 	c->batch_slots = calloc(c->batch_cap, sizeof(*c->batch_slots));
+	c->batch_at = calloc(c->batch_cap, sizeof(*c->batch_at));
 	c->entry = calloc(1, sizeof(*c->entry));
-	if (!c->batch_keys || !c->batch_slots || !c->entry) {
+	if (!c->batch_keys || !c->batch_slots || !c->batch_at || !c->entry) {
 		fprintf(stderr, "rtsup-trace: out of memory\n");
 		return -1;
 	}
@@ -487,16 +488,28 @@ static void process_name(struct collector *c, const struct thread_model *tm, cha
 }
 
 /*
- * sample_attrs - tm's attributes read at this sample: by the thread map's
- * iterator (threads_read_attrs), else by the task iterator; NULL if neither
+ * sample_attrs - tm's attributes as last read, by the thread map's iterator
+ * (threads_read_attrs) or the task iterator's walk, at this sample or at
+ * one before and not moved since (thread_task_due, thread_walk_tasks);
+ * NULL if none holds
  */
 static const struct rtsup_task_attrs *sample_attrs(const struct collector *c,
 						   const struct thread_model *tm)
 {
-	/* read at this sample, or at one before and not moved since (thread_task_due) */
-	if (c->tasks)
-		return tm->attrs_seq && !tm->task_gone && !tm->attrs_stale ? &tm->attrs : NULL;
-	return task_attrs_of(&c->attrs, tm->tid);
+	(void)c;
+	return tm->attrs_seq && !tm->task_gone && !tm->attrs_stale ? &tm->attrs : NULL;
+}
+
+/* attrs_hold - a, just read of tm's task, is what tm holds: applied again if it moved */
+static void attrs_hold(const struct collector *c, struct thread_model *tm,
+		       const struct rtsup_task_attrs *a)
+{
+	tm->attrs_stale = false;
+	if (memcmp(&tm->attrs, a, sizeof(*a))) {
+		tm->attrs = *a;
+		tm->attrs_applied = false;
+	}
+	tm->attrs_seq = c->sample_seq;
 }
 
 /*
@@ -509,14 +522,23 @@ static void note_task(const struct collector *c, struct thread_model *tm,
 	if (!r || r->task == THREAD_TASK_UNREAD)
 		return;
 	tm->task_gone = r->task == THREAD_TASK_GONE;
-	if (!a)
-		return;
-	tm->attrs_stale = false;
-	if (memcmp(&tm->attrs, a, sizeof(*a))) {
-		tm->attrs = *a;
-		tm->attrs_applied = false;
-	}
-	tm->attrs_seq = c->sample_seq;
+	if (a)
+		attrs_hold(c, tm, a);
+}
+
+/*
+ * note_walk - what this sample's walk of the task iterator found of tm's
+ * task: its attributes, held until the next walk unless they move; none
+ * (gone, or unreadable), and the kernel is asked for them
+ */
+static void note_walk(const struct collector *c, struct thread_model *tm)
+{
+	const struct rtsup_task_attrs *a = task_attrs_of(&c->attrs, tm->tid);
+
+	if (a)
+		attrs_hold(c, tm, a);
+	else
+		tm->attrs_seq = 0;
 }
 
 /*
@@ -525,7 +547,7 @@ static void note_task(const struct collector *c, struct thread_model *tm,
  */
 static bool attrs_kept(const struct collector *c, const struct thread_model *tm)
 {
-	return c->tasks && tm->attrs_applied && !tm->task_gone && !tm->attrs_stale &&
+	return tm->attrs_seq && tm->attrs_applied && !tm->task_gone && !tm->attrs_stale &&
 	       !c->attrs.online_moved;
 }
 
@@ -609,6 +631,7 @@ static void refresh_identity(struct collector *c, struct thread_model *tm)
 	}
 	if (iter && !left_rt_after_sample(tm))
 		return;
+	c->attrs_asked++;	/* thread_walk_tasks: a storm of these takes a walk */
 	tm->policy = sched_getscheduler(tm->tid);
 	if (tm->policy < 0)
 		return;
@@ -675,6 +698,8 @@ static void take_rest(struct collector *c, struct thread_model *tm, __u32 tid,
 	char comm[RTSUP_COMM_LEN];
 
 	note_task(c, tm, r, a);
+	if (c->attrs_walked)
+		note_walk(c, tm);
 	/* the snapshot the model holds (take_unchanged): its names were taken from it */
 	if (t != &tm->cur) {
 		tm->tgid = t->tgid;
@@ -722,8 +747,12 @@ static int take(struct collector *c, __u32 tid, struct rtsup_thread *t, bool sen
 			return -ENOMEM;
 	}
 	fresh = !tm->cur.first_seen;
-	/* its policy changed (thread_sched_seen): the attributes last read are not the task's */
-	if (!fresh && t->setsched != tm->cur.setsched)
+	/*
+	 * its policy changed (thread_sched_seen): the attributes last read are
+	 * not the task's, unless they are what its switch-out saw
+	 */
+	if (!fresh && t->setsched != tm->cur.setsched &&
+	    !(tm->attrs_seq && thread_attrs_as_seen(t->sched_seen, &tm->attrs)))
 		tm->attrs_stale = true;
 	/* its unsafe_sys keys of another mode count now (read_unsafe_sys) */
 	if (!fresh && cycle_sys_mode(&t->cs) != cycle_sys_mode(&tm->cur.cs))
@@ -733,6 +762,7 @@ static int take(struct collector *c, __u32 tid, struct rtsup_thread *t, bool sen
 		c->map_short_refused++;
 		return 1;
 	}
+	thread_copied(t->gen, &tm->read_seen, &tm->read_again);
 	if (sent)
 		c->map_short++;
 	else
@@ -742,6 +772,34 @@ static int take(struct collector *c, __u32 tid, struct rtsup_thread *t, bool sen
 	take_rest(c, tm, tid, t, r, a);
 	return 0;
 }
+
+/*
+ * entry_kept - a read the thread map's iterator has no say in (a batch
+ * read, a read of the named): is tid's entry at slot the one the model
+ * holds? The iterator's rule (thread_copy_due), applied by userspace to
+ * the model's own reader fields: its generation, read in place, did not
+ * move since it was copied twice at it (threadread.h). Without the
+ * iterator (kernels that refuse it), the whole read of every 8th sample
+ * copied 900 parked threads' 6 KiB each. A tid taken again by a new
+ * thread has another first_seen.
+ */
+static bool entry_kept(struct collector *c, struct thread_model *tm, __u32 tid, __u32 slot)
+{
+	__u32 gen, seen, again;
+	__u64 first_seen;
+
+	if (!tm || !tm->cur.first_seen || slot == THREAD_NO_SLOT ||
+	    threadmem_gen(&c->mem, tid, slot, &gen, &first_seen) ||
+	    first_seen != tm->cur.first_seen)
+		return false;
+	seen = tm->read_seen;
+	again = tm->read_again;
+	return !thread_copy_due(gen, &seen, &again);
+}
+
+/* take_unchanged is take_entry's too */
+static int take_unchanged(struct collector *c, struct thread_model *tm, __u32 tid,
+			  const struct rtsup_thread_rec *r, const struct rtsup_task_attrs *a);
 
 /*
  * take_entry - take tid's entry at slot (THREAD_NO_SLOT: where the thread
@@ -754,6 +812,8 @@ static int take_entry(struct collector *c, __u32 tid, __u32 slot,
 	struct thread_model *tm = model_get(&c->model, tid, false);
 	int err;
 
+	if (!r && entry_kept(c, tm, tid, slot))
+		return take_unchanged(c, tm, tid, NULL, NULL);
 	if (tm && model_takes_short(tm)) {
 		if (threadmem_copy_short(&c->mem, tid, slot, c->entry))
 			return 1;
@@ -941,6 +1001,7 @@ static int grow_batch(struct collector *c)
 {
 	__u32 cap = c->batch_cap * 2;
 	__u32 *k = realloc(c->batch_keys, cap * sizeof(*k)), *v;
+	struct rtsup_moved_rec *at;
 
 	if (!k)
 		return -1;
@@ -949,6 +1010,10 @@ static int grow_batch(struct collector *c)
 	if (!v)
 		return -1;
 	c->batch_slots = v;
+	at = realloc(c->batch_at, cap * sizeof(*at));
+	if (!at)
+		return -1;
+	c->batch_at = at;
 	c->batch_cap = cap;
 	return 0;
 }
@@ -971,6 +1036,54 @@ static bool batch_read_cheaper(const struct collector *c)
 }
 
 /*
+ * The entries a read takes, asked of the memory ahead (read_ahead): 1000
+ * running threads' models and entries are out of the cache by the next
+ * interval, and a take waited for each of its misses in turn. Two steps:
+ * the first lines of the thread after next (its model's, its entry's:
+ * where its buckets moved is in them), then the buckets of the next.
+ */
+struct ahead {
+	struct thread_model *tm;
+	const struct rtsup_thread *t;	/* its entry in place, NULL: none */
+};
+
+/* ahead_first - the first step for tid's entry at slot */
+static struct ahead ahead_first(struct collector *c, __u32 tid, __u32 slot)
+{
+	struct ahead a = { model_get(&c->model, tid, false), threadmem_at(&c->mem, slot) };
+
+	model_prefetch(a.tm);
+	threadmem_prefetch(&c->mem, slot);
+	return a;
+}
+
+/* ahead_next - the second step: its buckets (model_prefetch_spans) */
+static void ahead_next(const struct ahead *a)
+{
+	if (a->t)
+		model_prefetch_spans(a->tm, a->t);
+}
+
+/*
+ * read_ahead - before taking entry i of n, the steps for i + 1 and i + 2
+ * (at[k]: entry k's tid and slot); next holds i + 1's first step, and
+ * i + 2's after
+ */
+static void read_ahead(struct collector *c, const struct rtsup_moved_rec *at, __u32 i, __u32 n,
+		       struct ahead *next)
+{
+	struct ahead after = { NULL, NULL };
+
+	if (i == 0 && n > 1)
+		*next = ahead_first(c, at[1].tid, at[1].slot);
+	if (i + 2 < n)
+		after = ahead_first(c, at[i + 2].tid, at[i + 2].slot);
+	if (i + 1 < n)
+		ahead_next(next);
+	*next = after;
+}
+
+/*
  * read_whole - the whole thread map, through its iterator or batch_cap
  * entries per syscall (batch: batch_read_cheaper, asked before the read's
  * counts were reset)
@@ -978,6 +1091,7 @@ static bool batch_read_cheaper(const struct collector *c)
 static int read_whole(struct collector *c, bool batch)
 {
 	int fd = bpf_map__fd(c->skel->maps.threads), err;
+	struct ahead next = { NULL, NULL };
 	__u64 in = 0, out = 0;
 	__u32 n, i;
 	bool first = true;
@@ -1013,11 +1127,12 @@ static int read_whole(struct collector *c, bool batch)
 			return -errno;
 		}
 		for (i = 0; i < n; i++) {
+			c->batch_at[i].tid = c->batch_keys[i];
+			c->batch_at[i].slot = c->batch_slots[i];
+		}
+		for (i = 0; i < n; i++) {
 			c->map_entries++;
-			if (i + 1 < n) {
-				model_prefetch(model_get(&c->model, c->batch_keys[i + 1], false));
-				threadmem_prefetch(&c->mem, c->batch_slots[i + 1]);
-			}
+			read_ahead(c, c->batch_at, i, n, &next);
 			if (take_entry(c, c->batch_keys[i], c->batch_slots[i], NULL, NULL) < 0)
 				return -ENOMEM;
 		}
@@ -1040,10 +1155,12 @@ static int read_named(struct collector *c)
 	int err;
 
 	for (k = 0; k < 2; k++) {
+		const struct rtsup_moved_rec *at = l[k]->at;
+		struct ahead next = { NULL, NULL };
+
 		for (i = 0; i < l[k]->n; i++) {
-			tid = l[k]->at[i].tid;
-			if (i + 1 < l[k]->n)
-				threadmem_prefetch(&c->mem, l[k]->at[i + 1].slot);
+			tid = at[i].tid;
+			read_ahead(c, at, i, l[k]->n, &next);
 			tm = model_get(&c->model, tid, false);
 			if (tm && seen_now(c, tm))
 				continue;
@@ -1061,11 +1178,9 @@ static int read_named(struct collector *c)
  * read_threads - the entries the ring named, or the whole thread map
  * (thread_read_whole): through its iterator, or batch_cap entries per syscall
  */
-static int read_threads(struct collector *c)
+static int read_threads(struct collector *c, bool forced)
 {
 	bool named = c->moved.rb != NULL;
-	/* a tid the collector could not keep (out of memory) */
-	bool forced = named && movedset_begin(&c->moved, &c->skel->bss->threads_moved_seq);
 	/* the last read's counts decide, before they are reset */
 	bool batch = batch_read_cheaper(c);
 	int err;
@@ -1073,9 +1188,8 @@ static int read_threads(struct collector *c)
 	c->map_entries = c->map_copied = c->map_moved = c->map_visited = c->map_tasks = 0;
 	c->map_short = c->map_short_refused = 0;
 	c->map_batch = false;
-	/* a send the ring refused (full), a task that changed cgroups */
-	if (__atomic_exchange_n(&c->skel->bss->threads_moved_lost, 0, __ATOMIC_RELAXED) |
-	    __atomic_exchange_n(&c->skel->bss->threads_attrs_moved, 0, __ATOMIC_RELAXED))
+	/* a tid the collector could not keep (out of memory) */
+	if (named && movedset_begin(&c->moved, &c->skel->bss->threads_moved_seq))
 		forced = true;
 	c->map_whole = thread_read_whole(named, c->sample_seq, forced,
 					 movedset_due(&c->moved), (__u32)c->model.n);
@@ -1131,8 +1245,39 @@ static void mark_absent(struct collector *c, bool read_complete)
 	}
 }
 
+/*
+ * sample_forced - must this sample's read see every entry and task? A send
+ * the ring refused (full), a task that changed cgroups (the hooks' flags,
+ * taken)
+ */
+static bool sample_forced(struct collector *c)
+{
+	return __atomic_exchange_n(&c->skel->bss->threads_moved_lost, 0, __ATOMIC_RELAXED) |
+	       __atomic_exchange_n(&c->skel->bss->threads_attrs_moved, 0, __ATOMIC_RELAXED);
+}
+
+/*
+ * walk_tasks - the task iterator's walk of every task, when this sample
+ * takes it (thread_walk_tasks): the attributes of the targets it finds
+ * are held until the next (note_walk)
+ */
+static void walk_tasks(struct collector *c, bool forced)
+{
+	c->attrs_walked = false;
+	c->attrs_asked_last = c->attrs_asked;
+	c->attrs_asked = 0;
+	if (!c->skel->links.attrs_task ||
+	    !thread_walk_tasks(c->moved.rb != NULL, c->sample_seq, forced, c->attrs_asked_last))
+		return;
+	/* a failed walk: none found, every thread asked of the kernel */
+	if (task_attrs_read(&c->attrs, bpf_link__fd(c->skel->links.attrs_task)))
+		c->attrs.n = 0;
+	c->attrs_walked = true;
+}
+
 int collector_sample(struct collector *c)
 {
+	bool forced;
 	int err;
 
 	epoch_flip(c);
@@ -1145,14 +1290,13 @@ int collector_sample(struct collector *c)
 	eventlog_finish(&c->events);
 	causes_sort(&c->causes_win);
 	causes_sort(&c->causes_life);
-	/* every target's attributes in one read; without it, asked thread by thread */
-	if (c->skel->links.attrs_task &&
-	    task_attrs_read(&c->attrs, bpf_link__fd(c->skel->links.attrs_task)))
-		c->attrs.n = 0;
-	/* or the thread map's iterator reads them (take_rest): the CPUs online still */
-	if (c->tasks)
+	forced = sample_forced(c);
+	/* every target's attributes in one walk; without it, asked thread by thread */
+	walk_tasks(c, forced);
+	/* or the thread map's iterator reads them (take_rest); the CPUs online still */
+	if (c->tasks || (c->skel->links.attrs_task && !c->attrs_walked))
 		task_attrs_online(&c->attrs);
-	err = read_threads(c);
+	err = read_threads(c, forced);
 	if (err)
 		fprintf(stderr, "rtsup-trace: reading the thread map: %s\n", strerror(-err));
 	model_sort(&c->model);	/* the reports list threads by tid */
@@ -1400,6 +1544,7 @@ void collector_free(struct collector *c)
 	model_free(&c->model);
 	free(c->batch_keys);
 	free(c->batch_slots);
+	free(c->batch_at);
 	free(c->entry);
 	threadmem_close(&c->mem);
 	iter_buf_free(&c->threads_out);

@@ -48,6 +48,8 @@ struct collector {
 	const struct options *o;
 	/* what the syscalls are seen by: "per-syscall" or "raw_syscalls"; NULL in a replay */
 	const char *sys_hooks;
+	/* where the targets' attributes come from (json.md, supervisor.task_attrs); NULL in a replay */
+	const char *task_attrs;
 	struct model model;
 	struct ring_buffer *rb;
 	__u32 bank;			/* interval bank of the last sample */
@@ -76,6 +78,7 @@ struct collector {
 	/* the thread map is read COLLECTOR_BATCH tids and slots per syscall */
 	__u32 *batch_keys;
 	__u32 *batch_slots;
+	struct rtsup_moved_rec *batch_at;	/* ... both, as read_ahead reads them */
 	__u32 batch_cap;
 	struct threadmem mem;		/* the entries, copied in place (threadmem.h) */
 	__u32 unsafe_sys_seen;		/* unsafe_sys_gen at the last walk of unsafe_sys */
@@ -105,8 +108,11 @@ struct collector {
 	void (*on_stack)(void *ctx, const struct rtsup_stack_rec *r,
 			 const struct stack_frame *f, int n, const struct stack_maps *m);
 	void *sink_ctx;
-	/* the targets' attributes at this sample, from the task iterator (taskattrs.h) */
+	/* the targets' attributes at the last walk of the task iterator (taskattrs.h) */
 	struct task_attrs attrs;
+	bool attrs_walked;		/* ... which was this sample's (thread_walk_tasks) */
+	__u32 attrs_asked;		/* threads whose attributes this sample asked one by one */
+	__u32 attrs_asked_last;		/* ... and the sample before */
 	/* process names read in this sample, by tgid (refresh_identity) */
 	__u64 sample_seq;
 	struct collector_pname {

@@ -149,6 +149,18 @@ int threadmem_copy_short(struct threadmem *m, __u32 tid, __u32 slot,
 	return out->tid == tid ? 0 : -ENOENT;
 }
 
+int threadmem_gen(struct threadmem *m, __u32 tid, __u32 slot, __u32 *gen, __u64 *first_seen)
+{
+	const struct rtsup_thread *t = entry_of(m, tid, slot);
+
+	if (!t)
+		return -ENOENT;
+	*gen = __atomic_load_n(&t->gen, __ATOMIC_RELAXED);
+	*first_seen = __atomic_load_n(&t->first_seen, __ATOMIC_RELAXED);
+	/* a slot given back and taken again between the look-up and the reads */
+	return __atomic_load_n(&t->tid, __ATOMIC_RELAXED) == tid ? 0 : -ENOENT;
+}
+
 int threadmem_add(struct threadmem *m, __u32 tid, const struct rtsup_thread *t)
 {
 	struct rtsup_thread *at;

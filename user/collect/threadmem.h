@@ -62,6 +62,11 @@ int threadmem_copy(struct threadmem *m, __u32 tid, __u32 slot, struct rtsup_thre
 int threadmem_copy_short(struct threadmem *m, __u32 tid, __u32 slot,
 			 struct rtsup_thread *out);
 /*
+ * threadmem_gen - the generation and first_seen of tid's entry, read in
+ * place (its first cache lines, no copy): 0, -ENOENT when tid has none
+ */
+int threadmem_gen(struct threadmem *m, __u32 tid, __u32 slot, __u32 *gen, __u64 *first_seen);
+/*
  * threadmem_add - an entry for tid, t written to a free slot before the
  * thread map names it: 0, -EEXIST when tid has one, -E2BIG when no slot
  * is free, or -errno

@@ -40,6 +40,8 @@ struct health {
 	bool thread_map_whole;		/* ... which walked the whole map (threadread.h) */
 	bool thread_map_batch;		/* ... in batches, not through the iterator */
 	__u32 thread_map_tasks;		/* tasks the iterator read with it */
+	bool task_walk;			/* the last sample walked every task (thread_walk_tasks) */
+	__u32 tasks_asked;		/* ... and asked this many threads' of the kernel */
 	struct health_map can_id_map;	/* capacity 0 without --can */
 };
 

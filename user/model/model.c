@@ -825,6 +825,47 @@ void model_prefetch_kept(const struct thread_model *tm)
 	__builtin_prefetch(&tm->win);
 }
 
+/* prefetch_line - one line, to be written (the model's) or only read (the kernel's) */
+static inline void prefetch_line(const char *p, bool write)
+{
+	/* the builtin wants a constant: clang's front end checks before inlining */
+	if (write)
+		__builtin_prefetch(p, 1);
+	else
+		__builtin_prefetch(p, 0);
+}
+
+/* prefetch_buckets - the lines of buckets [a, b] of h */
+static void prefetch_buckets(const __u32 *h, int a, int b, bool write)
+{
+	const char *p = (const char *)&h[a], *end = (const char *)&h[b];
+
+	/* the line of each: [a, b] may start mid-line */
+	for (; p <= end; p += 64)
+		prefetch_line(p, write);
+	prefetch_line(end, write);
+}
+
+void model_prefetch_spans(const struct thread_model *tm, const struct rtsup_thread *t)
+{
+	const struct life_hist *l = tm ? tm->life_hist : NULL;
+	int i, a, b;
+
+	if (!t)
+		return;
+	for (i = 0; i < RTSUP_M_NR; i++) {
+		metric_banks_range(&t->m[i], &a, &b);
+		if (a > b)
+			continue;
+		prefetch_buckets(t->m[i].hist, a, b, false);
+		if (tm && tm->cur.first_seen)
+			prefetch_buckets(tm->cur.m[i].hist, a, b, true);
+	}
+	/* its interval arrays' addresses are in it: read when taken */
+	if (l)
+		__builtin_prefetch(l, 1);
+}
+
 /* find - binary search in the tid-sorted array */
 static int find(const struct model *m, __u32 tid, int *pos)
 {

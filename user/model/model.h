@@ -89,6 +89,8 @@ struct thread_model {
 	 * the model's 10 KiB
 	 */
 	bool judged;			/* supervised in an earlier interval */
+	/* thread_copy_due's reader fields, for the reads the iterator has no say in */
+	__u32 read_seen, read_again;
 	struct life_hist *life_hist;	/* lifetime bucket counts, NULL until a snapshot */
 	int nsys;
 	char pcomm[RTSUP_COMM_LEN];	/* the process's name */
@@ -250,6 +252,15 @@ void model_prefetch(const struct thread_model *tm);
  * snapshot reads (900 parked threads an interval)
  */
 void model_prefetch_kept(const struct thread_model *tm);
+/*
+ * model_prefetch_spans - the same, one step later, for the lines only the
+ * new entry t says: of each metric, the buckets between its interval
+ * banks' lowest and highest values in tm's snapshot and in t
+ * (metric_banks_range: what the comparison of model_set reads, ~50
+ * buckets a running thread), and its lifetime's spans (life_hist). t's
+ * first lines, which name them, asked for the step before (tm may be NULL)
+ */
+void model_prefetch_spans(const struct thread_model *tm, const struct rtsup_thread *t);
 /* model_sort - every thread in tid order, for the outputs (pointers into t change) */
 void model_sort(struct model *m);
 /*

@@ -456,6 +456,8 @@ static json_t *json_thread_map(const struct health *h)
 		json_object_set_new(o, "whole", json_boolean(h->thread_map_whole));
 		json_object_set_new(o, "batch", json_boolean(h->thread_map_batch));
 		json_object_set_new(o, "tasks", json_integer(h->thread_map_tasks));
+		json_object_set_new(o, "task_walk", json_boolean(h->task_walk));
+		json_object_set_new(o, "tasks_asked", json_integer(h->tasks_asked));
 	}
 	return o;
 }
@@ -518,6 +520,8 @@ static json_t *json_common(const struct collector *c, const struct supervisor *s
 		/* per-syscall: the syscall counts leave out what no hook watches (design.md) */
 		if (c->sys_hooks)
 			json_object_set_new(su, "syscall_hooks", json_string(c->sys_hooks));
+		if (c->task_attrs)
+			json_object_set_new(su, "task_attrs", json_string(c->task_attrs));
 		json_object_set_new(o, "health", json_health(&sv->health));
 		/* cause attribution's limit (design.md): waits it had no slot for */
 		json_object_set_new(o, "waits_not_attributed",

@@ -60,6 +60,33 @@ static void test_touched_entry_copied_twice(void **state)
 	assert_false(read_once(&t));
 }
 
+/*
+ * a reader that decides itself (thread_copied after each copy, the rule
+ * asked of copies of its fields): a change is copied twice, then kept
+ */
+static void test_reader_copies_a_change_twice(void **state)
+{
+	__u32 seen = 0, again = 0, gen = 41, s, a;
+
+	(void)state;
+	thread_copied(gen, &seen, &again);	/* the first copy of a new entry */
+	s = seen, a = again;
+	assert_true(thread_copy_due(gen, &s, &a));	/* its second is due */
+	thread_copied(gen, &seen, &again);
+	s = seen, a = again;
+	assert_false(thread_copy_due(gen, &s, &a));	/* then nothing, while no hook writes */
+	gen++;	/* a hook looked it up */
+	s = seen, a = again;
+	assert_true(thread_copy_due(gen, &s, &a));
+	thread_copied(gen, &seen, &again);
+	s = seen, a = again;
+	assert_true(thread_copy_due(gen, &s, &a));
+	thread_copied(gen, &seen, &again);
+	thread_copied(gen, &seen, &again);	/* a third copy changes nothing */
+	s = seen, a = again;
+	assert_false(thread_copy_due(gen, &s, &a));
+}
+
 /* the copies of an entry no hook wrote in between are the same bytes */
 static void test_normalized_copies_equal(void **state)
 {
@@ -283,6 +310,59 @@ static void test_read_tasks_which(void **state)
 	assert_false(thread_task_due(t.gen, t.read_seen, 0, 0, 8, THREAD_TASKS_NONE));
 }
 
+/*
+ * the task iterator's walk of every task: at the reads that see every
+ * entry, after a storm of threads asked one by one, and always without the ring
+ */
+static void test_walk_tasks_when(void **state)
+{
+	__u64 seq;
+	int walks = 0;
+
+	(void)state;
+	assert_true(thread_walk_tasks(0, 5, 0, 0));	/* no ring: every sample */
+	assert_true(thread_walk_tasks(1, 1, 0, 0));
+	assert_true(thread_walk_tasks(1, 2, 0, 0));
+	assert_true(thread_walk_tasks(1, 5, 1, 0));	/* forced: a cgroup move, a lost send */
+	assert_false(thread_walk_tasks(1, 5, 0, THREAD_WALK_ASKS));
+	assert_true(thread_walk_tasks(1, 5, 0, THREAD_WALK_ASKS + 1));
+	for (seq = 3; seq < 3 + 10 * THREAD_TASK_EVERY; seq++) {
+		int walk = thread_walk_tasks(1, seq, 0, 0);
+
+		walks += walk;
+		/* the same samples as the thread map's iterator reads every task */
+		assert_int_equal(walk, thread_read_tasks(1, seq, 0) == THREAD_TASKS_ALL);
+	}
+	assert_int_equal(walks, 10);
+}
+
+/* attributes read of a task against what its last switch-out saw */
+static void test_attrs_as_seen(void **state)
+{
+	struct rtsup_task_attrs a;
+	struct rtsup_thread t;
+
+	(void)state;
+	memset(&a, 0, sizeof(a));
+	memset(&t, 0, sizeof(t));
+	a.policy = 1;
+	a.rt_priority = 70;
+	a.cpu_words = 2;
+	a.cpus[0] = 0x3;	/* CPUs 0, 1 and 64 */
+	a.cpus[1] = 0x1;
+	assert_false(thread_attrs_as_seen(t.sched_seen, &a));	/* no switch-out yet */
+	thread_sched_seen(&t, 1, 70, 3);	/* the first: a setsched that changed nothing */
+	assert_true(thread_attrs_as_seen(t.sched_seen, &a));
+	thread_sched_seen(&t, 1, 71, 3);	/* chrt -f 71 */
+	assert_false(thread_attrs_as_seen(t.sched_seen, &a));
+	thread_sched_seen(&t, 1, 70, 2);	/* taskset: one CPU less */
+	assert_false(thread_attrs_as_seen(t.sched_seen, &a));
+	a.cpus[1] = 0;
+	assert_true(thread_attrs_as_seen(t.sched_seen, &a));
+	a.cpu_words = 0;	/* a mask the read did not fill counts no CPU */
+	assert_false(thread_attrs_as_seen(t.sched_seen, &a));
+}
+
 /* a target's switch-out: a change of what the collector reads of its task counts */
 static void test_sched_seen_counts_changes(void **state)
 {
@@ -331,7 +411,10 @@ int main(void)
 		cmocka_unit_test(test_moved_named_once_a_read),
 		cmocka_unit_test(test_read_whole_when),
 		cmocka_unit_test(test_read_tasks_which),
+		cmocka_unit_test(test_walk_tasks_when),
+		cmocka_unit_test(test_reader_copies_a_change_twice),
 		cmocka_unit_test(test_sched_seen_counts_changes),
+		cmocka_unit_test(test_attrs_as_seen),
 		cmocka_unit_test(test_moved_ring_bytes),
 	};
 
