@@ -1188,9 +1188,6 @@ static int read_threads(struct collector *c, bool forced)
 	c->map_entries = c->map_copied = c->map_moved = c->map_visited = c->map_tasks = 0;
 	c->map_short = c->map_short_refused = 0;
 	c->map_batch = false;
-	/* a tid the collector could not keep (out of memory) */
-	if (named && movedset_begin(&c->moved, &c->skel->bss->threads_moved_seq))
-		forced = true;
 	c->map_whole = thread_read_whole(named, c->sample_seq, forced,
 					 movedset_due(&c->moved), (__u32)c->model.n);
 	if (c->tasks)
@@ -1246,14 +1243,21 @@ static void mark_absent(struct collector *c, bool read_complete)
 }
 
 /*
- * sample_forced - must this sample's read see every entry and task? A send
- * the ring refused (full), a task that changed cgroups (the hooks' flags,
- * taken)
+ * read_begin - the sample's read begins (movedset_begin: threads_moved_seq
+ * moves, the ring is drained); must it see every entry and task? A tid the
+ * ring named that could not be kept (out of memory), then the hooks' flags,
+ * taken after the begin so that a send the ring refused before it makes
+ * this read whole: a send refused (the ring full), a task that changed
+ * cgroups
  */
-static bool sample_forced(struct collector *c)
+static bool read_begin(struct collector *c)
 {
-	return __atomic_exchange_n(&c->skel->bss->threads_moved_lost, 0, __ATOMIC_RELAXED) |
-	       __atomic_exchange_n(&c->skel->bss->threads_attrs_moved, 0, __ATOMIC_RELAXED);
+	bool named = c->moved.rb != NULL;
+	bool lost = named && movedset_begin(&c->moved, &c->skel->bss->threads_moved_seq);
+
+	return lost |
+	       (__atomic_exchange_n(&c->skel->bss->threads_moved_lost, 0, __ATOMIC_RELAXED) |
+		__atomic_exchange_n(&c->skel->bss->threads_attrs_moved, 0, __ATOMIC_RELAXED));
 }
 
 /*
@@ -1290,7 +1294,7 @@ int collector_sample(struct collector *c)
 	eventlog_finish(&c->events);
 	causes_sort(&c->causes_win);
 	causes_sort(&c->causes_life);
-	forced = sample_forced(c);
+	forced = read_begin(c);
 	/* every target's attributes in one walk; without it, asked thread by thread */
 	walk_tasks(c, forced);
 	/* or the thread map's iterator reads them (take_rest); the CPUs online still */
