@@ -104,3 +104,25 @@ def explain(record_path, log_path, tid, period_ns, flag=CF_OVERRUN):
             len(rec), len(gen), "\n".join(lines) or "(none)")
     except (OSError, ValueError, KeyError, struct.error) as e:
         return "\n(no cycle comparison: %s)" % e
+
+
+def exec_containment(record_path, log_path, tid):
+    """(spans, short): the generator's span of each cycle, from its clock
+    read after the sleep to its read before the next sleep, and the lines
+    naming each recorded cycle shorter than the generator's cycle it holds.
+    The tracer's cycle runs from the switch-in, before the first read, to
+    the next sleep's entry, after the second: it holds that span, on the
+    same clock (CLOCK_MONOTONIC), with no tolerance."""
+    rec = recorded_cycles(record_path).get(tid, [])
+    gen = [g for g in generator_cycles(log_path).get(tid, []) if "next_before" in g]
+    starts = [g["start"] for g in gen]
+    short = []
+    for r in rec:
+        g = _nearest(gen, starts, r["start"])
+        if g is None:
+            continue
+        span = g["next_before"] - g["start"]
+        if r["exec"] < span:
+            short.append("cycle %d: tracer exec %d ns, generator span %d ns, tracer start %+d ns"
+                         % (g["cycle"], r["exec"], span, r["start"] - g["start"]))
+    return sorted(g["next_before"] - g["start"] for g in gen), short

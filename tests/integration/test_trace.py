@@ -75,6 +75,31 @@ def check_thread_matches(truth_t, got, extra_blocks=0):
     assert tot["unsafe"]["syscall"] == sum(unsafe_truth.values())
 
 
+# The tracer's cycle holds the generator's span and adds the wake path and
+# syscall return before the generator's first read and the entry path after
+# its last (docs/testing.md). Those paths, with rtsup-trace's own sys_exit
+# and sys_enter hooks, took a median of 5 us per cycle, 99th percentile 21 to
+# 31 us, on a 2-vCPU VM (2026-12-02): the bound below needs fewer than one
+# cycle in 10 over PATH_NS. A preemption or a hypervisor's steal there can
+# take ms, but in few cycles (4 in 2000 under the noise injector).
+PATH_NS = 20_000
+QUANTILE_REL = 0.02  # docs/json.md: a p50 within 2 % of the exact value
+
+
+def check_exec_against_generator(truth_t, exec_ns):
+    """The execution time against the generator's own clock reads
+    (--cycle-log): every recorded cycle holds the generator's span exactly,
+    and the p50 lies between the generator's median span and, its paths
+    added, its 60th percentile plus PATH_NS: P(span > q60) = 0.4, P(path >
+    PATH_NS) < 0.1, so more than half the cycles are below that sum."""
+    record, log = truth_t["_audit"]
+    spans, short = cycle_audit.exec_containment(record, log, truth_t["tid"])
+    assert spans and not short, "\n".join(short[:20])
+    median, q60 = spans[len(spans) // 2], spans[len(spans) * 6 // 10]
+    assert median * (1 - QUANTILE_REL) <= exec_ns["p50"] <= \
+        (q60 + PATH_NS) * (1 + QUANTILE_REL), (exec_ns, median, q60)
+
+
 def thread_named(pid, name):
     """The tid of pid's thread called name, None while there is none. A
     thread may end between the listing and the read of its name (the
@@ -151,7 +176,7 @@ def test_clean_load_period_and_cycles(tmp_path):
         assert u["migration"] <= tot["context_switches"]["involuntary"], (
             u, tot["context_switches"])
         if not EMULATED:
-            assert tot["exec_ns"]["p50"] == pytest.approx(100_000, rel=0.15)
+            check_exec_against_generator(t, tot["exec_ns"])
         assert tot["cpu_ns"]["mean"] <= tot["exec_ns"]["mean"] * 1.01
         lat = tot["latency_ns"]
         assert lat["count"] >= CYCLES - 2 and lat["min"] <= lat["p50"] <= lat["p99"] <= lat["max"]
