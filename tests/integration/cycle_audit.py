@@ -65,15 +65,22 @@ def _nearest(gen, starts, start):
     return gen[i] if i < len(gen) else None
 
 
+def _matched(rec, gen):
+    """(recorded, generated) pairs: each recorded cycle with the generator's
+    cycle nearest after its start (_nearest); a recorded cycle that starts
+    after the generator's last start read has none and is left out"""
+    starts = [g["start"] for g in gen]
+    for r in rec:
+        g = _nearest(gen, starts, r["start"])
+        if g is not None:
+            yield r, g
+
+
 def differences(rec, gen, period_ns, flag=CF_OVERRUN):
     """Lines naming each cycle the tracer flagged ('flag') and the generator
     did not, or the other way round, with both sides' clock reads."""
     lines = []
-    starts = [g["start"] for g in gen]
-    for r in rec:
-        g = _nearest(gen, starts, r["start"])
-        if g is None:
-            continue
+    for r, g in _matched(rec, gen):
         t_flag = bool(r["flags"] & flag)
         if flag == CF_OVERRUN:
             g_flag = g["end"] - g["start"] > period_ns
@@ -114,13 +121,9 @@ def exec_containment(record_path, log_path, tid):
     the next sleep's entry, after the second: it holds that span, on the
     same clock (CLOCK_MONOTONIC), with no tolerance."""
     rec = recorded_cycles(record_path).get(tid, [])
-    gen = [g for g in generator_cycles(log_path).get(tid, []) if "next_before" in g]
-    starts = [g["start"] for g in gen]
+    gen = generator_cycles(log_path).get(tid, [])
     short = []
-    for r in rec:
-        g = _nearest(gen, starts, r["start"])
-        if g is None:
-            continue
+    for r, g in _matched(rec, gen):
         span = g["next_before"] - g["start"]
         if r["exec"] < span:
             short.append("cycle %d: tracer exec %d ns, generator span %d ns, tracer start %+d ns"
