@@ -247,6 +247,7 @@ UNIT_DEPS_test_targets := user/collect/targets.c
 UNIT_DEPS_test_pidns := user/collect/pidns.c
 UNIT_DEPS_test_selfsched := user/collect/selfsched.c user/collect/procfile.c
 UNIT_DEPS_test_clockwatch := user/collect/clockwatch.c
+UNIT_DEPS_test_clockoff := user/collect/clockoff.c
 UNIT_DEPS_test_procmaps := user/collect/procmaps.c
 UNIT_DEPS_test_fpcheck := user/collect/fpcheck.c
 UNIT_DEPS_test_taskattrs := user/collect/taskattrs.c user/collect/targets.c user/collect/iterread.c \

@@ -12,6 +12,7 @@
 #include <bpf/libbpf.h>
 #include <sys/epoll.h>
 #include "collect/collector.h"
+#include "collect/clockoff.h"
 #include "collect/clockwatch.h"
 #include "collect/liveness.h"
 #include "collect/mapprune.h"
@@ -34,30 +35,28 @@ __u64 mono_now(void)
 	return ts.tv_sec * 1000000000ULL + ts.tv_nsec;
 }
 
-/* clock_offset - offset of a clock to CLOCK_MONOTONIC, in ns */
-static __s64 clock_offset(clockid_t clk)
-{
-	struct timespec a, m;
+/* a clock the kernel side converts and the one it reads (the alarm clocks sleep on their base) */
+static const clockid_t converted_clocks[COLLECTOR_CLOCKS][2] = {
+	{ CLOCK_REALTIME, CLOCK_REALTIME }, { CLOCK_REALTIME_ALARM, CLOCK_REALTIME },
+	{ CLOCK_BOOTTIME, CLOCK_BOOTTIME }, { CLOCK_BOOTTIME_ALARM, CLOCK_BOOTTIME },
+	{ CLOCK_TAI, CLOCK_TAI },
+};
 
-	if (clock_gettime(clk, &a))
-		return 0;
-	clock_gettime(CLOCK_MONOTONIC, &m);
-	return (a.tv_sec - m.tv_sec) * 1000000000LL + (a.tv_nsec - m.tv_nsec);
-}
-
-/* update_clocks - let the kernel side convert absolute sleeps to its clock */
-static void update_clocks(struct collector *c)
+/*
+ * update_clocks - let the kernel side convert absolute sleeps to its clock:
+ * a reading replaces the held offset when the clock moved by more than the
+ * two readings' errors, or when it is known 'stepped' (clockoff_keep)
+ */
+static void update_clocks(struct collector *c, bool stepped)
 {
-	/* a clock and the one it reads (the alarm clocks sleep on their base) */
-	static const clockid_t clks[][2] = {
-		{ CLOCK_REALTIME, CLOCK_REALTIME }, { CLOCK_REALTIME_ALARM, CLOCK_REALTIME },
-		{ CLOCK_BOOTTIME, CLOCK_BOOTTIME }, { CLOCK_BOOTTIME_ALARM, CLOCK_BOOTTIME },
-		{ CLOCK_TAI, CLOCK_TAI },
-	};
+	struct clock_offset now;
 	size_t i;
 
-	for (i = 0; i < sizeof(clks) / sizeof(clks[0]); i++)
-		c->skel->bss->clock_off[clks[i][0]] = clock_offset(clks[i][1]);
+	for (i = 0; i < COLLECTOR_CLOCKS; i++) {
+		now = clockoff_read(converted_clocks[i][1]);
+		c->clock_held[i] = stepped && now.err >= 0 ? now : clockoff_keep(c->clock_held[i], now);
+		c->skel->bss->clock_off[converted_clocks[i][0]] = c->clock_held[i].off;
+	}
 	c->real_off = c->skel->bss->clock_off[CLOCK_REALTIME];
 }
 
@@ -85,7 +84,7 @@ static void watch_clock(struct collector *c)
 /* clock_stepped - the wall clock was stepped: new offsets to the kernel side now */
 static void clock_stepped(struct collector *c)
 {
-	update_clocks(c);
+	update_clocks(c, true);
 	c->clock_steps++;
 	fprintf(stderr, "rtsup-trace: the wall clock was stepped by %+.6f s; "
 		"absolute sleeps on it are judged with its new time\n",
@@ -272,6 +271,7 @@ static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, unsig
 
 int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct options *o)
 {
+	size_t i;
 	int err;
 
 	memset(c, 0, sizeof(*c));
@@ -296,7 +296,9 @@ int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct opt
 			strerror(-err));
 		return -1;
 	}
-	update_clocks(c);
+	for (i = 0; i < COLLECTOR_CLOCKS; i++)
+		c->clock_held[i].err = -1;	/* none read yet */
+	update_clocks(c, false);
 	c->real_off_said = c->real_off;
 	c->rb = ring_buffer__new(bpf_map__fd(skel->maps.events), on_event, c, NULL);
 	if (!c->rb || (skel->rodata->cfg_record &&
@@ -1285,7 +1287,7 @@ int collector_sample(struct collector *c)
 	int err;
 
 	epoch_flip(c);
-	update_clocks(c);
+	update_clocks(c, false);
 	c->sample_seq++;	/* process names are read again */
 	if (c->tasks)
 		c->tasks->bss->threads_read_seq = (__u32)c->sample_seq;

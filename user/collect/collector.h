@@ -8,6 +8,7 @@
 #define RTSUP_COLLECTOR_H
 
 #include <stdbool.h>
+#include "collect/clockoff.h"
 #include "collect/iterread.h"
 #include "collect/movedset.h"
 #include "collect/procfile.h"
@@ -25,6 +26,8 @@ struct ring_buffer;
 struct unwinder;
 struct stack_maps;
 
+/* Clocks whose absolute sleeps the kernel side converts to CLOCK_MONOTONIC (update_clocks). */
+#define COLLECTOR_CLOCKS 5
 /* Thread map entries per read at first: 64 entries of ~5 KiB. */
 #define COLLECTOR_BATCH 64
 /* A poll consumes events for its wait or this long, whichever is longer (poll_over). */
@@ -62,6 +65,7 @@ struct collector {
 	__u64 poll_until;		/* the running poll stops consuming here (ns) */
 	__u64 polled;			/* records consumed, to read the clock once in 64 */
 	__s64 real_off;			/* CLOCK_REALTIME - CLOCK_MONOTONIC, ns */
+	struct clock_offset clock_held[COLLECTOR_CLOCKS]; /* what the kernel side converts with */
 	/*
 	 * real_off when the last step was told: a sample between the step and
 	 * its clockwatch wakeup has already written the new offset to real_off
