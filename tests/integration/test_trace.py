@@ -1051,13 +1051,16 @@ def test_rt_check_idle_host_exits_0(tmp_path):
     # on this host. The start-up window read 3.6-6.7 % of a CPU in rt-6.12 (6
     # runs, bpf_stats: 500-2400 ns a run over an empty program's 65): true
     # there, and the supervisor's own overhead check may fire there, it alone.
+    # A slow host too: a fresh-clone run on a 2-vCPU VM half as fast as the
+    # one this test was written on read 1.03 % in its first interval (--rt
+    # follows every switch of the machine). That check's measure is
+    # test_overhead_*'s; this test holds the threads' verdicts, and the
+    # supervisor's own may be that one alone, with its exit code.
     own = [c for v in summary[0]["violations"] if "[" not in v["component"]
            for c in v["checks"]]
-    if EMULATED:
-        assert all(c["check"] == "overhead" for c in own), (own, summary[0]["supervisor"])
+    assert all(c["check"] == "overhead" for c in own), (own, summary[0]["supervisor"])
     if not others and not missed:
-        assert r.returncode == (2 if EMULATED and own else 0), (summary[0]["violations"],
-                                                               r.stderr)
+        assert r.returncode == (2 if own else 0), (summary[0]["violations"], r.stderr)
     else:
         assert r.returncode in (0, 2), r.stderr
     for t in kernel:
