@@ -45,13 +45,14 @@ struct clock_offset clockoff_read(clockid_t clk)
 	return clockoff_pick(b, n);
 }
 
-struct clock_offset clockoff_keep(struct clock_offset held, struct clock_offset now)
+struct clock_offset clockoff_keep(struct clock_offset held, struct clock_offset now,
+				  bool stepped)
 {
 	__s64 d = now.off - held.off;
 
-	if (held.err < 0 || now.err < 0)
-		return now.err < 0 ? held : now;
-	if (d > held.err + now.err || -d > held.err + now.err)
-		return now;	/* stepped */
+	if (now.err < 0)
+		return held;
+	if (stepped || d > held.err + now.err || -d > held.err + now.err)
+		return now;
 	return now.err < held.err ? now : held;
 }

@@ -11,6 +11,7 @@
 #ifndef RTSUP_CLOCKOFF_H
 #define RTSUP_CLOCKOFF_H
 
+#include <stdbool.h>
 #include <time.h>
 #include <linux/types.h>
 
@@ -24,7 +25,7 @@ struct clock_bracket {
 	__s64 mono0, clk, mono1;
 };
 
-/* an offset and its error bound, ns; err < 0: none read yet */
+/* an offset and its error bound, ns; err < 0: the clock could not be read */
 struct clock_offset {
 	__s64 off, err;
 };
@@ -42,8 +43,11 @@ struct clock_offset clockoff_read(clockid_t clk);
  * one clock change only when it is stepped, so two readings within their
  * errors are the same offset and the narrower is kept. A change that
  * reads as a step reaches the kernel side (which moves pending releases
- * by it, cycle_clock_at_exit); the reads' own noise does not.
+ * by it, cycle_clock_at_exit); the reads' own noise does not. 'stepped'
+ * (the clock watch saw a step; the first reading) takes 'now' whole; a
+ * clock that could not be read leaves 'held'.
  */
-struct clock_offset clockoff_keep(struct clock_offset held, struct clock_offset now);
+struct clock_offset clockoff_keep(struct clock_offset held, struct clock_offset now,
+				  bool stepped);
 
 #endif

@@ -45,7 +45,8 @@ static const clockid_t converted_clocks[COLLECTOR_CLOCKS][2] = {
 /*
  * update_clocks - let the kernel side convert absolute sleeps to its clock:
  * a reading replaces the held offset when the clock moved by more than the
- * two readings' errors, or when it is known 'stepped' (clockoff_keep)
+ * two readings' errors, or when it is known 'stepped' or read first
+ * (clockoff_keep)
  */
 static void update_clocks(struct collector *c, bool stepped)
 {
@@ -54,7 +55,7 @@ static void update_clocks(struct collector *c, bool stepped)
 
 	for (i = 0; i < COLLECTOR_CLOCKS; i++) {
 		now = clockoff_read(converted_clocks[i][1]);
-		c->clock_held[i] = stepped && now.err >= 0 ? now : clockoff_keep(c->clock_held[i], now);
+		c->clock_held[i] = clockoff_keep(c->clock_held[i], now, stepped);
 		c->skel->bss->clock_off[converted_clocks[i][0]] = c->clock_held[i].off;
 	}
 	c->real_off = c->skel->bss->clock_off[CLOCK_REALTIME];
@@ -271,7 +272,6 @@ static int add_initial(void *ctx, pid_t tgid, pid_t tid, const char *comm, unsig
 
 int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct options *o)
 {
-	size_t i;
 	int err;
 
 	memset(c, 0, sizeof(*c));
@@ -296,9 +296,7 @@ int collector_init(struct collector *c, struct rtsup_bpf *skel, const struct opt
 			strerror(-err));
 		return -1;
 	}
-	for (i = 0; i < COLLECTOR_CLOCKS; i++)
-		c->clock_held[i].err = -1;	/* none read yet */
-	update_clocks(c, false);
+	update_clocks(c, true);	/* the first readings, whole */
 	c->real_off_said = c->real_off;
 	c->rb = ring_buffer__new(bpf_map__fd(skel->maps.events), on_event, c, NULL);
 	if (!c->rb || (skel->rodata->cfg_record &&

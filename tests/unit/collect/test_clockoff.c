@@ -45,20 +45,24 @@ static void test_keep_until_stepped(void **state)
 				  wide = { 1500, 5000 }, step = { 5000001000, 80 };
 	struct clock_offset o;
 
-	o = clockoff_keep(none, a);	/* the first reading */
+	o = clockoff_keep((struct clock_offset){ 0, 0 }, a, true);	/* the first reading */
 	assert_int_equal(o.off, 1000);
-	o = clockoff_keep(a, b);	/* 150 apart, errors 150: the same, b narrower */
+	o = clockoff_keep(a, b, false);	/* 150 apart, errors 150: the same, b narrower */
 	assert_int_equal(o.off, 1150);
 	assert_int_equal(o.err, 50);
-	o = clockoff_keep(b, wide);	/* a preempted reading does not move it */
+	o = clockoff_keep(b, wide, false);	/* a preempted reading does not move it */
 	assert_int_equal(o.off, 1150);
-	o = clockoff_keep(b, a);	/* nor does a wider one within the errors */
+	o = clockoff_keep(b, a, false);	/* nor does a wider one within the errors */
 	assert_int_equal(o.off, 1150);
-	o = clockoff_keep(b, step);	/* +5 s: taken, whatever its width */
+	o = clockoff_keep(b, step, false);	/* +5 s: taken, whatever its width */
 	assert_int_equal(o.off, 5000001000);
-	o = clockoff_keep(b, (struct clock_offset){ 1351, 150 });	/* 201 > 200: moved */
+	o = clockoff_keep(b, (struct clock_offset){ 1351, 150 }, false);	/* 201 > 200: moved */
 	assert_int_equal(o.off, 1351);
-	o = clockoff_keep(b, none);	/* an unreadable clock: the held offset stays */
+	o = clockoff_keep(b, a, true);	/* a step the clock watch saw: taken, however small */
+	assert_int_equal(o.off, 1000);
+	o = clockoff_keep(b, none, false);	/* an unreadable clock: the held offset stays */
+	assert_int_equal(o.off, 1150);
+	o = clockoff_keep(b, none, true);	/* stepped or not */
 	assert_int_equal(o.off, 1150);
 	(void)state;
 }
