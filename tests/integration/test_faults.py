@@ -17,8 +17,8 @@ from pathlib import Path
 
 import pytest
 
-from conftest import (BUILD, CLEAN_DEFAULTS, LEVEL_CHANGE, LOADGEN, PERIOD_US, TRACE, Loadgen,
-                      Trace, prog_ids, threads_by_tid, unique_prefix)
+from conftest import (BUILD, CLEAN_DEFAULTS, EMULATED, LEVEL_CHANGE, LOADGEN, PERIOD_US, TRACE,
+                      Loadgen, Trace, prog_ids, threads_by_tid, unique_prefix)
 
 pytestmark = pytest.mark.usefixtures("bpf")
 
@@ -286,6 +286,37 @@ def test_thread_storm(tmp_path):
     h = summary["health"]
     assert h["untracked_threads"] <= made["created"], h
     assert h["ok"] == (h["untracked_threads"] == 0 and h["lost_events"] == 0), h
+
+
+def status_kb(pid, field):
+    for line in Path("/proc/%d/status" % pid).read_text().splitlines():
+        if line.startswith(field + ":"):
+            return int(line.split()[1])
+    raise AssertionError("no %s in /proc/%d/status" % (field, pid))
+
+
+def test_start_up_memory_given_back(tmp_path):
+    """What the start-up freed goes back to the kernel before the first
+    interval: the start-up reads the kernel's BTF whole (libbpf, for each
+    object it relocates) and frees it, and glibc kept those pages (RssAnon
+    12.9 MiB with five targets on the 6.18 host, 1.7 MiB given back)."""
+    lg = Loadgen(tmp_path, ["-n", "5", "-c", "20"])
+    tr = Trace(["-i", "200ms", "--no-overhead", "--pid", str(lg.pid)])
+    try:
+        # two intervals out: the loop runs, past the start-up
+        end = time.monotonic() + (120 if EMULATED else 30)
+        while sum('"interval"' in x for x in tr.out) < 2 and time.monotonic() < end:
+            time.sleep(0.05)
+        anon = status_kb(tr.proc.pid, "RssAnon")
+        lg.summary()
+        tr.stop()
+    finally:
+        lg.stop()
+    btf_kb = Path("/sys/kernel/btf/vmlinux").stat().st_size // 1024
+    # the bound is the BTF's raw size: kept, its pages alone (and libbpf's
+    # index of it) are more; given back, the rest (the models of five
+    # threads, the libraries' own data) is a fraction of it
+    assert anon < btf_kb, (anon, btf_kb)
 
 
 def test_comm_leader_rename_brings_its_threads(tmp_path):
