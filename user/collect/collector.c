@@ -643,7 +643,7 @@ static void refresh_identity(struct collector *c, struct thread_model *tm)
 /* idle_in_window - not switched in or out in the interval just read */
 static bool idle_in_window(const struct thread_model *tm)
 {
-	return !tm->win.vol_cs && !tm->win.invol_cs;
+	return model_win_empty(tm) || (!tm->win.vol_cs && !tm->win.invol_cs);
 }
 
 /*

@@ -799,7 +799,7 @@ void model_prefetch(const struct thread_model *tm)
 		return;
 	p = (const char *)tm;
 	cur = (const char *)&tm->cur;
-	for (o = 0; o < offsetof(struct thread_model, cur); o += 64)
+	for (o = 0; o < MODEL_HEAD_BYTES; o += 64)
 		__builtin_prefetch(p + o, 1);
 	for (o = 0; o < offsetof(struct rtsup_thread, m); o += 64)
 		__builtin_prefetch(cur + o, 1);
@@ -817,12 +817,12 @@ void model_prefetch_kept(const struct thread_model *tm)
 
 	if (!tm)
 		return;
-	for (o = 0; o < offsetof(struct thread_model, cur); o += 64)
+	for (o = 0; o < MODEL_HEAD_BYTES; o += 64)
 		__builtin_prefetch((const char *)tm + o, 1);
 	__builtin_prefetch(&tm->cur.tgid);
 	__builtin_prefetch(&tm->cur.exited);
 	__builtin_prefetch(&tm->cur.rt);
-	__builtin_prefetch(&tm->win);
+	/* not win: model_idle clears it once, and no one reads it after (model_win_empty) */
 }
 
 /* prefetch_line - one line, to be written (the model's) or only read (the kernel's) */

@@ -8,6 +8,7 @@
 #define RTSUP_MODEL_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <linux/types.h>
 #include "rtsup.h"
 #include "judge/status.h"
@@ -114,6 +115,12 @@ struct thread_model {
 	bool win_idle;		/* win is empty (model_idle), as is life_hist's interval */
 	bool cur_torn;		/* cur's buckets do not sum to its counts (snapshot_torn) */
 	__u8 life_due;		/* metrics whose life percentiles wait (model_life_settle) */
+	/*
+	 * verdict of the last interval: its level and count of messages are
+	 * read of every thread at every interval (the table, the service's
+	 * status line), so on the head's page, not 8 KiB away on a third one
+	 */
+	struct status st;
 	struct rtsup_thread cur;	/* the last snapshot of the kernel entry */
 	/*
 	 * Computed once per snapshot (model_set) for every check and sink:
@@ -129,7 +136,6 @@ struct thread_model {
 	char cgroup[256];		/* cgroup v2 path, "" if unknown */
 	/* its task's attributes as the thread map's iterator last read them (threadread.h) */
 	struct rtsup_task_attrs attrs;
-	struct status st;		/* verdict of the last interval */
 };
 
 struct model {
@@ -236,6 +242,23 @@ void model_life_settle(struct thread_model *tm);
 void model_settle_all(struct model *m);
 /* model_idle - no snapshot this interval: an empty interval view */
 void model_idle(struct thread_model *tm);
+
+/*
+ * MODEL_HEAD_BYTES - the lines of a model every interval reads, a parked
+ * thread's too: the fields before st, and st's level and count of messages
+ * (its messages follow, read only when there are some)
+ */
+#define MODEL_HEAD_BYTES (offsetof(struct thread_model, st) + offsetof(struct status, msg))
+
+/*
+ * model_win_empty - tm's interval view is all zero (model_idle): a reader
+ * of a parked thread's win need not fetch its lines, two pages past the
+ * head. Only model.c writes win, and it clears win_idle first.
+ */
+static inline bool model_win_empty(const struct thread_model *tm)
+{
+	return tm->win_idle;
+}
 
 /* model_get - the thread's model, created (zeroed) when 'create' */
 struct thread_model *model_get(struct model *m, __u32 tid, bool create);

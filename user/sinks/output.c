@@ -809,8 +809,12 @@ static const int *table_pick(const struct collector *c, bool window, int *n, int
 		const struct span_view *s = window ? &tm->win : &tm->life;
 
 		rows[i] = (struct rowcut_row){ .level = window ? tm->st.level : tm->worst,
-			.skip = window && tm->reported_exit, .misses = s->misses,
-			.unsafe = s->unsafe_total, .lat_max_ns = s->m[RTSUP_M_LATENCY].max };
+			.skip = window && tm->reported_exit };
+		if (!window || !model_win_empty(tm)) {
+			rows[i].misses = s->misses;
+			rows[i].unsafe = s->unsafe_total;
+			rows[i].lat_max_ns = s->m[RTSUP_M_LATENCY].max;
+		}
 	}
 	*n = rowcut_pick(rows, m, c->o->top, c->o->all, idx, idx + m, cut);
 	return idx;
