@@ -724,9 +724,8 @@ static void take_rest(struct collector *c, struct thread_model *tm, __u32 tid,
 /*
  * take - one thread's new kernel snapshot, a copy of its entry (short when
  * sent: threadmem_copy_short), into its model tm (NULL: none yet, made
- * here); the copy's reader fields
- * zeroed first (thread_rec_normalize). 1: a short copy the model cannot
- * take (model_set_sent), nothing taken.
+ * here); the copy's reader fields zeroed first (thread_rec_normalize).
+ * 1: a short copy the model cannot take (model_set_sent), nothing taken.
  */
 static int take(struct collector *c, struct thread_model *tm, __u32 tid, struct rtsup_thread *t,
 		bool sent, const struct rtsup_thread_rec *r, const struct rtsup_task_attrs *a)
@@ -736,7 +735,6 @@ static int take(struct collector *c, struct thread_model *tm, __u32 tid, struct 
 
 	if (!tm)
 		tm = model_get(&c->model, tid, true);
-
 	thread_rec_normalize(t);
 	if (!tm)
 		return -ENOMEM;

@@ -677,11 +677,16 @@ static void test_model_idle_snapshot_keeps_life_views(void **state)
 	assert_int_equal(tm->win.cycles, 0);
 	assert_int_equal(tm->win.m[RTSUP_M_EXEC].count, 0);
 	assert_int_equal(win_at(tm, RTSUP_M_EXEC, hist_bucket(100 * US)), 0);
+	/* what a reader of a parked thread skips is zero: the whole view */
+	assert_true(model_win_empty(tm));
+	assert_memory_equal(&tm->win, &(struct span_view){ 0 }, sizeof(tm->win));
 	tm->life.cycles = 20;
 
 	t->cur.vol_cs++;	/* a switch, no cycle: the counters again, not the percentiles */
 	model_set(tm, &t->cur, 1);
 	model_life_settle(tm);
+	assert_false(model_win_empty(tm));
+	assert_int_equal(tm->win.vol_cs, 1);
 	assert_int_equal(life_exec->p99, 12345);
 	assert_int_equal(tm->win.m[RTSUP_M_EXEC].count, 0);
 	assert_int_equal(tm->life.cycles, 20);
