@@ -254,6 +254,15 @@ def unique_prefix():
 unique_prefix.n = 0
 
 
+def proc_status(pid, field):
+    """A number of /proc/PID/status (VmHWM and RssAnon in KiB, a count of
+    switches); a field the kernel does not give fails the test."""
+    for line in Path("/proc/%d/status" % pid).read_text().splitlines():
+        if line.startswith(field + ":"):
+            return int(line.split()[1])
+    raise AssertionError("no %s in /proc/%d/status" % (field, pid))
+
+
 def run_supervised(tmp_path, lg_args, trace_args=None, nthreads=2):
     """Trace the generator's periodic threads by name, started before the
     generator (so --comm must pick them up), wait for its summary, stop

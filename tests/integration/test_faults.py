@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 
 from conftest import (BUILD, CLEAN_DEFAULTS, EMULATED, LEVEL_CHANGE, LOADGEN, PERIOD_US, TRACE,
-                      Loadgen, Trace, prog_ids, threads_by_tid, unique_prefix)
+                      Loadgen, Trace, proc_status, prog_ids, threads_by_tid, unique_prefix)
 
 pytestmark = pytest.mark.usefixtures("bpf")
 
@@ -188,20 +188,10 @@ def test_target_exits_at_start_up(tmp_path):
 STORM_S = int(os.environ.get("RTSUP_STORM_S", "8"))
 
 
-def vm_hwm_kb(pid):
-    for line in Path("/proc/%d/status" % pid).read_text().splitlines():
-        if line.startswith("VmHWM:"):
-            return int(line.split()[1])
-    return 0
-
-
 def loop_sleeps(pid):
     """How often the tool's loop (its main thread) slept: it sleeps only to
     wait for the kernel's events or its next interval."""
-    for line in Path("/proc/%d/status" % pid).read_text().splitlines():
-        if line.startswith("voluntary_ctxt_switches:"):
-            return int(line.split()[1])
-    raise AssertionError("no voluntary_ctxt_switches in /proc/%d/status" % pid)
+    return proc_status(pid, "voluntary_ctxt_switches")
 
 
 def test_thread_storm(tmp_path):
@@ -225,7 +215,7 @@ def test_thread_storm(tmp_path):
     sleeps, storm_s = loop_sleeps(tr.proc.pid) - sleeps0, time.monotonic() - t0
     try:
         truth = lg.summary()
-        hwm = vm_hwm_kb(tr.proc.pid)
+        hwm = proc_status(tr.proc.pid, "VmHWM")
         intervals, summary, _ = tr.stop()
     finally:
         lg.stop()
@@ -288,13 +278,6 @@ def test_thread_storm(tmp_path):
     assert h["ok"] == (h["untracked_threads"] == 0 and h["lost_events"] == 0), h
 
 
-def status_kb(pid, field):
-    for line in Path("/proc/%d/status" % pid).read_text().splitlines():
-        if line.startswith(field + ":"):
-            return int(line.split()[1])
-    raise AssertionError("no %s in /proc/%d/status" % (field, pid))
-
-
 def test_start_up_memory_given_back(tmp_path):
     """What the start-up freed goes back to the kernel before the first
     interval: the start-up reads the kernel's BTF whole (libbpf, for each
@@ -307,7 +290,7 @@ def test_start_up_memory_given_back(tmp_path):
         end = time.monotonic() + (120 if EMULATED else 30)
         while sum('"interval"' in x for x in tr.out) < 2 and time.monotonic() < end:
             time.sleep(0.05)
-        anon = status_kb(tr.proc.pid, "RssAnon")
+        anon = proc_status(tr.proc.pid, "RssAnon")
         lg.summary()
         tr.stop()
     finally:

@@ -13,7 +13,8 @@ import pytest
 import cycle_audit
 from cycle_audit import CF_MISS, CF_OVERRUN
 from conftest import (EMULATED, LOADGEN, PERIOD_US, TRACE, Loadgen, Trace, block_events,
-                      fdinfo_values, prog_ids, run_supervised, threads_by_tid, unique_prefix)
+                      fdinfo_values, proc_status, prog_ids, run_supervised, threads_by_tid,
+                      unique_prefix)
 
 pytestmark = pytest.mark.usefixtures("bpf")
 
@@ -485,14 +486,6 @@ def test_parked_thread_policy_change_is_seen(tmp_path):
     assert fifo == list(range(fifo[0], len(seen))), "once read, it stays"
 
 
-def _voluntary_switches(pid):
-    with open("/proc/%d/status" % pid) as f:
-        for line in f:
-            if line.startswith("voluntary_ctxt_switches:"):
-                return int(line.split()[1])
-    raise AssertionError("no voluntary_ctxt_switches for %d" % pid)
-
-
 def test_quiet_loop_wakes_once_an_interval(tmp_path):
     """With no event coming (a parked target), the loop waits for its next
     interval instead of polling every 100 ms (collector_poll_ms): at a 1 s
@@ -502,9 +495,9 @@ def test_quiet_loop_wakes_once_an_interval(tmp_path):
         lg.summary()  # its one cycle is done: parked from now on
         tr = Trace(["-i", "1s", "--pid", str(lg.pid)])
         time.sleep(3.0)  # past the start-up: its first overhead window and intervals
-        v0, t0 = _voluntary_switches(tr.proc.pid), time.monotonic()
+        v0, t0 = proc_status(tr.proc.pid, "voluntary_ctxt_switches"), time.monotonic()
         time.sleep(4.0)
-        v1, t1 = _voluntary_switches(tr.proc.pid), time.monotonic()
+        v1, t1 = proc_status(tr.proc.pid, "voluntary_ctxt_switches"), time.monotonic()
         tr.stop()
     finally:
         lg.stop()
