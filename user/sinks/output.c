@@ -624,6 +624,18 @@ static void json_list_end(void)
 }
 
 /*
+ * json_active - does --json-threads active list tm this interval? A parked
+ * thread's win is known zero (model_win_empty): its lines, two pages past
+ * the head, are not fetched for 900 parked threads an interval
+ */
+static bool json_active(const struct thread_model *tm)
+{
+	if (model_win_empty(tm))
+		return rowcut_active(0, 0, tm->level_changed);
+	return rowcut_active(tm->win.cycles, tm->win.vol_cs + tm->win.invol_cs, tm->level_changed);
+}
+
+/*
  * json_threads - the threads array, one thread object at a time; an
  * interval with --json-threads active lists the active ones and counts
  * the others (rowcut.h)
@@ -640,8 +652,7 @@ static void json_threads(const struct collector *c, const struct supervisor *sv,
 
 		if (window && tm->reported_exit)
 			continue;
-		if (active && !rowcut_active(tm->win.cycles, tm->win.vol_cs + tm->win.invol_cs,
-					     tm->level_changed)) {
+		if (active && !json_active(tm)) {
 			quiet++;
 			continue;
 		}
